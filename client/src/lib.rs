@@ -1,0 +1,3 @@
+//! A client for trackd's REST API.
+
+#![warn(missing_docs)]

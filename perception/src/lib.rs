@@ -1,0 +1,15 @@
+//! trackd's perception core: the paper's pipeline as plain, synchronous stages.
+//!
+//! Each stage takes and returns plain data (`&[Point]`, clusters, histograms) so it can be
+//! tested, benchmarked and replaced alone; nothing here does I/O, spawns threads of its own
+//! or touches the network.
+
+#![warn(missing_docs)]
+
+pub mod frame;
+pub mod geo;
+pub mod oxts;
+pub mod point;
+
+pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};
+pub use point::Point;

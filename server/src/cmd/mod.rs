@@ -1,0 +1,13 @@
+//! One module per subcommand: its flags (`Args`) and its entry point (`run`).
+
+pub mod bench;
+pub mod cluster;
+pub mod config;
+pub mod demo;
+pub mod eval;
+pub mod info;
+pub mod router;
+pub mod run;
+pub mod serve;
+pub mod sim;
+pub mod vfh;
