@@ -2,3 +2,7 @@
 //! odometry sequences, PCD files and plain folders of scans.
 
 #![warn(missing_docs)]
+
+pub mod shared_data;
+
+pub use shared_data::shared_data_dir;
