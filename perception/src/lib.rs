@@ -6,10 +6,13 @@
 
 #![warn(missing_docs)]
 
+pub mod config;
 pub mod frame;
 pub mod geo;
 pub mod oxts;
+pub mod pipeline;
 pub mod point;
 
 pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};
+pub use pipeline::{FrameOutput, Pipeline, PipelineError, Vehicle};
 pub use point::Point;
