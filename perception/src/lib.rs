@@ -9,6 +9,7 @@
 pub mod config;
 pub mod frame;
 pub mod geo;
+pub mod occupancy;
 pub mod oxts;
 pub mod pipeline;
 pub mod point;
