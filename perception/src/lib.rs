@@ -13,6 +13,8 @@ pub mod occupancy;
 pub mod oxts;
 pub mod pipeline;
 pub mod point;
+pub mod superframe;
+pub mod wire;
 
 pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};
 pub use pipeline::{FrameOutput, Pipeline, PipelineError, Vehicle};

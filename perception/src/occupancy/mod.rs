@@ -361,7 +361,7 @@ fn block_key(key: [i32; 3]) -> [i32; 3] {
 
 fn local_index(key: [i32; 3]) -> usize {
     let m = BLOCK_SIDE as i32 - 1;
-    let s = BLOCK_SIDE as usize;
+    let s = BLOCK_SIDE;
     (key[0] & m) as usize + (key[1] & m) as usize * s + (key[2] & m) as usize * s * s
 }
 
