@@ -3,6 +3,15 @@
 
 #![warn(missing_docs)]
 
+pub mod bin;
+pub mod calib;
+pub mod clean;
+pub mod error;
+mod numfmt;
+pub mod oxts;
+pub mod pcd;
 pub mod shared_data;
+pub mod timestamps;
 
+pub use error::DatasetError;
 pub use shared_data::shared_data_dir;
