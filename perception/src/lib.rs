@@ -14,6 +14,7 @@ pub mod oxts;
 pub mod pipeline;
 pub mod point;
 pub mod superframe;
+pub mod track;
 pub mod wire;
 
 pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};

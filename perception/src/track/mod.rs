@@ -1,0 +1,19 @@
+//! Frame-to-frame object tracking (the paper's Algorithm 1 and what a real tracker adds to it):
+//! association by VFH tests, a motion EKF and a global assignment; oriented boxes completed
+//! from partial views; confidence decay; training-free identification of objects versus
+//! static structure.
+
+pub mod assignment;
+pub mod association;
+pub mod box_fit;
+pub mod classify;
+pub mod confidence;
+pub mod config;
+mod histogram;
+pub mod motion;
+pub mod observation;
+pub mod tracker;
+
+pub use config::{AssociationMode, TrackConfig};
+pub use observation::Ground;
+pub use tracker::{ClusterInput, PredictedBox, ScanContext, Track, Tracker};

@@ -1,0 +1,222 @@
+//! What the tracker measures of one cluster: its visible outline in bird's-eye view, its
+//! height profile above the ground and its shape verdict.
+
+use nalgebra::{Vector2, Vector3};
+
+use super::box_fit::{Rect, fit_rectangle};
+use super::classify::{ClassifyConfig, ShapeFeatures, ShapeVerdict, classify_shape};
+use crate::Point;
+
+/// The ground under the clusters, in the world frame: heights are `normal · p + offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ground {
+    /// Unit normal pointing up.
+    pub normal: Vector3<f64>,
+    /// Offset of the plane.
+    pub offset: f64,
+}
+
+impl Ground {
+    /// A horizontal ground at height `z`.
+    pub fn horizontal(z: f64) -> Self {
+        Self {
+            normal: Vector3::z(),
+            offset: -z,
+        }
+    }
+
+    /// Height of `p` above the ground.
+    pub fn height(&self, p: &Vector3<f64>) -> f64 {
+        self.normal.dot(p) + self.offset
+    }
+
+    /// The world z of the ground straight below (or above) `p`.
+    pub fn z_below(&self, p: &Vector3<f64>) -> f64 {
+        if self.normal.z.abs() < 1e-6 {
+            return p.z;
+        }
+        p.z - self.height(p) / self.normal.z
+    }
+}
+
+/// One cluster as the tracker sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Observation {
+    /// Mean of the points (world frame).
+    pub centroid: Vector3<f64>,
+    /// Visible outline in bird's-eye view.
+    pub rect: Rect,
+    /// World z of the ground below the centroid.
+    pub ground_z: f64,
+    /// Shape measures.
+    pub shape: ShapeFeatures,
+    /// The shape's verdict.
+    pub verdict: ShapeVerdict,
+    /// Number of points.
+    pub points: usize,
+}
+
+impl Observation {
+    /// The four corners of the visible outline.
+    pub fn corners(&self) -> [Vector2<f64>; 4] {
+        let axis = self.rect.axis();
+        let normal = Vector2::new(-axis.y, axis.x);
+        let (a, b) = (
+            axis * self.rect.extent.x / 2.0,
+            normal * self.rect.extent.y / 2.0,
+        );
+        let c = self.rect.center;
+        [c + a + b, c + a - b, c - a + b, c - a - b]
+    }
+}
+
+/// Computes observations, reusing its buffers from scan to scan.
+#[derive(Debug, Default)]
+pub struct Observer {
+    bev: Vec<Vector2<f64>>,
+    heights: Vec<f64>,
+}
+
+impl Observer {
+    /// Measures the cluster made of `points` (world frame).
+    pub fn observe(
+        &mut self,
+        points: &[Point],
+        ground: &Ground,
+        classify: &ClassifyConfig,
+    ) -> Observation {
+        self.bev.clear();
+        self.heights.clear();
+        let mut sum = Vector3::zeros();
+        for p in points {
+            let v = Vector3::new(p.x as f64, p.y as f64, p.z as f64);
+            sum += v;
+            self.bev.push(v.xy());
+            self.heights.push(ground.height(&v));
+        }
+        let centroid = sum / points.len().max(1) as f64;
+        let rect = fit_rectangle(&self.bev);
+        let (bottom, top) = self
+            .heights
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+        let (bottom, top) = if points.is_empty() {
+            (0.0, 0.0)
+        } else {
+            (bottom, top)
+        };
+        let third = (top - bottom) / 3.0;
+        let upper_width = self.spread(&rect, |h| h >= top - third);
+        let lower_width = self.spread(&rect, |h| h <= bottom + third);
+        let shape = ShapeFeatures {
+            length: rect.extent.max(),
+            width: rect.extent.min(),
+            top,
+            bottom,
+            upper_width,
+            lower_width,
+        };
+        Observation {
+            centroid,
+            rect,
+            ground_z: ground.z_below(&centroid),
+            shape,
+            verdict: classify_shape(&shape, classify),
+            points: points.len(),
+        }
+    }
+
+    /// Largest extent along the rectangle's axes of the points whose height passes `keep`.
+    fn spread(&self, rect: &Rect, keep: impl Fn(f64) -> bool) -> f64 {
+        let axis = rect.axis();
+        let normal = Vector2::new(-axis.y, axis.x);
+        let mut lo = Vector2::repeat(f64::MAX);
+        let mut hi = Vector2::repeat(f64::MIN);
+        for (p, &h) in self.bev.iter().zip(&self.heights) {
+            if keep(h) {
+                let q = Vector2::new(axis.dot(p), normal.dot(p));
+                lo = lo.inf(&q);
+                hi = hi.sup(&q);
+            }
+        }
+        if lo.x > hi.x { 0.0 } else { (hi - lo).max() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ObjectClass;
+
+    /// A solid box of points (a grid over its four vertical faces).
+    pub(crate) fn box_points(center: Vector3<f64>, l: f64, w: f64, h: f64) -> Vec<Point> {
+        let mut out = Vec::new();
+        let step = 0.1;
+        let mut z = 0.0;
+        while z <= h {
+            let mut t = -l / 2.0;
+            while t <= l / 2.0 {
+                for s in [-w / 2.0, w / 2.0] {
+                    out.push(Point::new(
+                        (center.x + t) as f32,
+                        (center.y + s) as f32,
+                        (center.z + z) as f32,
+                        0.0,
+                    ));
+                }
+                t += step;
+            }
+            let mut t = -w / 2.0;
+            while t <= w / 2.0 {
+                for s in [-l / 2.0, l / 2.0] {
+                    out.push(Point::new(
+                        (center.x + s) as f32,
+                        (center.y + t) as f32,
+                        (center.z + z) as f32,
+                        0.0,
+                    ));
+                }
+                t += step;
+            }
+            z += step;
+        }
+        out
+    }
+
+    #[test]
+    fn measures_a_car_on_a_tilted_ground() {
+        // Ground rising 2 % along x; a 4.5 × 1.8 × 1.5 car starting 0.2 m above it at x = 10.
+        let normal = Vector3::new(-0.02, 0.0, 1.0).normalize();
+        let ground = Ground {
+            normal,
+            offset: 0.0,
+        };
+        let base = Vector3::new(
+            10.0,
+            3.0,
+            0.2 + ground.z_below(&Vector3::new(10.0, 3.0, 0.0)),
+        );
+        let points = box_points(base, 4.5, 1.8, 1.3);
+        let o = Observer::default().observe(&points, &ground, &ClassifyConfig::default());
+        assert!((o.shape.length - 4.5).abs() < 0.1);
+        assert!((o.shape.width - 1.8).abs() < 0.1);
+        assert!(
+            (o.shape.bottom - 0.2).abs() < 0.1,
+            "bottom {}",
+            o.shape.bottom
+        );
+        assert!((o.shape.top - 1.5).abs() < 0.1, "top {}", o.shape.top);
+        assert!((o.ground_z - 0.2).abs() < 0.05, "ground {}", o.ground_z);
+        assert_eq!(o.verdict, ShapeVerdict::Object(ObjectClass::Car));
+    }
+
+    #[test]
+    fn a_tree_is_wider_at_the_top() {
+        let ground = Ground::horizontal(0.0);
+        let mut points = box_points(Vector3::new(5.0, 5.0, 0.0), 0.3, 0.3, 2.0);
+        points.extend(box_points(Vector3::new(5.0, 5.0, 2.0), 3.0, 3.0, 1.5));
+        let o = Observer::default().observe(&points, &ground, &ClassifyConfig::default());
+        assert!(o.shape.upper_width > 2.5 && o.shape.lower_width < 0.5);
+        assert!(matches!(o.verdict, ShapeVerdict::Structure(_)));
+    }
+}

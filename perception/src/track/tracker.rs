@@ -1,0 +1,496 @@
+//! The tracker: one [`Tracker::step`] per scan takes the scan's clusters (world frame, with
+//! their VFHs) and moves every track forward: predict, associate, update, decay, drop, birth.
+
+use std::f64::consts::FRAC_PI_2;
+
+use nalgebra::{Vector2, Vector3};
+
+use super::assignment::Assigner;
+use super::association::{PairScore, TrackPairs, associate};
+use super::box_fit::{length_heading, place_box};
+use super::classify::{ClassVotes, ShapeVerdict};
+use super::config::{AssociationMode, TrackConfig};
+use super::histogram::{chi2_distance, max_cdf_deviation};
+use super::motion::{MotionModel, wrap_angle};
+use super::observation::{Ground, Observation, Observer};
+use crate::{ObjectClass, Point, TrackState};
+
+/// A heading measurement further than this from the track's heading (rad) is an axis flip of
+/// the box fit, not a turn.
+const MAX_HEADING_STEP: f64 = std::f64::consts::FRAC_PI_4;
+/// Consecutive flipped views after which the track takes the view's heading.
+const HEADING_RESET_VIEWS: u32 = 3;
+/// Weight of a larger view in the smoothed size.
+const SIZE_GROW_RATE: f64 = 0.5;
+/// An unmatched cluster whose centre lies this close (m) to a track's box is a fragment of
+/// that object, not a new one.
+const FRAGMENT_MARGIN: f64 = 0.5;
+
+/// One cluster handed to the tracker.
+#[derive(Clone, Copy, Debug)]
+pub struct ClusterInput<'a> {
+    /// The cluster's points in the world frame.
+    pub points: &'a [Point],
+    /// Its Viewpoint Feature Histogram.
+    pub vfh: &'a [f32],
+    /// The VFH's cumulative distribution.
+    pub cdf: &'a [f32],
+}
+
+/// Where and when a scan was taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScanContext {
+    /// Scan time, seconds.
+    pub timestamp: f64,
+    /// Position of the sensor in the world frame.
+    pub sensor: Vector3<f64>,
+    /// The ground in the world frame.
+    pub ground: Ground,
+}
+
+/// A track's predicted box, for splitting clusters that hold several objects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PredictedBox {
+    /// Track id.
+    pub id: u64,
+    /// Predicted centre in the ground plane.
+    pub center: Vector2<f64>,
+    /// Heading, rad.
+    pub heading: f64,
+    /// Length and width, m.
+    pub size: Vector2<f64>,
+}
+
+/// One track (tentative or confirmed, object or not yet identified).
+#[derive(Clone, Debug)]
+pub struct Track {
+    id: u64,
+    motion: MotionModel,
+    /// Smoothed length, width, height.
+    size: Vector3<f64>,
+    vfh: Vec<f32>,
+    cdf: Vec<f32>,
+    confidence: f32,
+    age: u32,
+    hits: u32,
+    misses: u32,
+    votes: ClassVotes,
+    birth: Vector2<f64>,
+    moving: bool,
+    heading_flips: u32,
+    cluster: Option<usize>,
+}
+
+impl Track {
+    /// Stable id.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
+    /// The index of the cluster matched in the last scan, if any.
+    pub fn cluster(&self) -> Option<usize> {
+        self.cluster
+    }
+
+    /// The VFH of the last matched cluster.
+    pub fn vfh(&self) -> &[f32] {
+        &self.vfh
+    }
+
+    /// Row-major covariance of the motion state `[x, y, z, vx, vy, θ]`.
+    pub fn covariance(&self) -> [f64; 36] {
+        let mut out = [0.0; 36];
+        for (k, v) in out.iter_mut().enumerate() {
+            *v = self.motion.covariance()[(k / 6, k % 6)];
+        }
+        out
+    }
+
+    /// Whether the track has moved clearly since its birth.
+    pub fn is_moving(&self) -> bool {
+        self.moving
+    }
+
+    /// Consecutive scans without a match.
+    pub fn misses(&self) -> u32 {
+        self.misses
+    }
+
+    /// What the track is: an object class, or `None` for structure / not identified.
+    pub fn identity(&self) -> Option<ObjectClass> {
+        self.votes.identity(self.moving)
+    }
+
+    /// The track's box and motion in the world frame.
+    pub fn state(&self) -> TrackState {
+        TrackState {
+            id: self.id,
+            class: self.identity().unwrap_or(ObjectClass::Unknown),
+            center: self.motion.position(),
+            size: self.size,
+            yaw: self.motion.yaw(),
+            velocity: self.motion.velocity(),
+            confidence: self.confidence,
+            age: self.age,
+            hits: self.hits,
+        }
+    }
+}
+
+/// All tracks of one vehicle.
+#[derive(Debug)]
+pub struct Tracker {
+    config: TrackConfig,
+    tracks: Vec<Track>,
+    next_id: u64,
+    time: Option<f64>,
+    observer: Observer,
+    observations: Vec<Observation>,
+    pairs: Vec<TrackPairs>,
+    assigner: Assigner,
+    taken: Vec<bool>,
+}
+
+impl Tracker {
+    /// A tracker without tracks.
+    pub fn new(config: TrackConfig) -> Self {
+        Self {
+            config,
+            tracks: Vec::new(),
+            next_id: 1,
+            time: None,
+            observer: Observer::default(),
+            observations: Vec::new(),
+            pairs: Vec::new(),
+            assigner: Assigner::default(),
+            taken: Vec::new(),
+        }
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &TrackConfig {
+        &self.config
+    }
+
+    /// Every live track, tentative ones and structure included.
+    pub fn tracks(&self) -> &[Track] {
+        &self.tracks
+    }
+
+    /// The tracks to report: confirmed (`birth_hits` matches), identified as objects, and
+    /// matched in one of the last `report_coasting_scans + 1` scans.
+    pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
+        self.tracks.iter().filter(|t| {
+            t.hits >= self.config.birth_hits
+                && t.misses <= self.config.report_coasting_scans
+                && t.identity().is_some()
+        })
+    }
+
+    /// The boxes the confirmed tracks are predicted to occupy at `timestamp`.
+    pub fn predicted_boxes(&self, timestamp: f64) -> impl Iterator<Item = PredictedBox> + '_ {
+        let dt = self.time.map_or(0.0, |t| (timestamp - t).max(0.0));
+        self.tracks
+            .iter()
+            .filter(|t| t.hits >= self.config.birth_hits && t.identity().is_some())
+            .map(move |t| PredictedBox {
+                id: t.id,
+                center: t.motion.position().xy() + t.motion.velocity() * dt,
+                heading: t.motion.yaw(),
+                size: t.size.xy(),
+            })
+    }
+
+    /// Processes one scan's clusters.
+    pub fn step(&mut self, scan: &ScanContext, clusters: &[ClusterInput<'_>]) {
+        let dt = self.time.map_or(0.0, |t| (scan.timestamp - t).max(0.0));
+        self.time = Some(scan.timestamp);
+        let process = self.config.motion.process_noise();
+        for t in &mut self.tracks {
+            t.motion.predict(dt, &process);
+            t.age += 1;
+            t.cluster = None;
+        }
+        self.observations.clear();
+        for c in clusters {
+            let o = self
+                .observer
+                .observe(c.points, &scan.ground, &self.config.classify);
+            self.observations.push(o);
+        }
+        self.score_pairs(scan, clusters);
+        let matches = associate(
+            &self.config.association,
+            &self.pairs,
+            clusters.len(),
+            &mut self.assigner,
+        );
+        self.taken.clear();
+        self.taken.resize(clusters.len(), false);
+        for (k, m) in matches.into_iter().enumerate() {
+            match m {
+                Some(j) => {
+                    self.taken[j] = true;
+                    self.update(k, j, scan, &clusters[j]);
+                }
+                None => {
+                    let t = &mut self.tracks[k];
+                    t.misses += 1;
+                    t.confidence = self.config.confidence.miss(t.confidence, dt);
+                }
+            }
+        }
+        let confidence = &self.config.confidence;
+        self.tracks.retain(|t| !confidence.is_lost(t.confidence));
+        for (j, cluster) in clusters.iter().enumerate() {
+            if !self.taken[j] && self.may_be_born(j) {
+                self.birth(j, scan, cluster);
+            }
+        }
+    }
+
+    /// Scores the (track, cluster) pairs association looks at: the gated ones, or all of
+    /// them in the paper's modes.
+    fn score_pairs(&mut self, scan: &ScanContext, clusters: &[ClusterInput<'_>]) {
+        let gated = self.config.association.mode == AssociationMode::GatedAssignment;
+        let gate = self.config.association.gate;
+        self.pairs
+            .resize_with(self.tracks.len(), TrackPairs::default);
+        for (t, pairs) in self.tracks.iter().zip(&mut self.pairs) {
+            pairs.pairs.clear();
+            let range = (t.motion.position() - scan.sensor).xy().norm();
+            let predicted = t
+                .motion
+                .predicted_position(&self.config.motion.measurement_noise(range));
+            pairs.motion_ready = t.hits >= 2;
+            pairs.log_det = predicted.covariance.determinant().max(1e-12).ln();
+            let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
+                + t.size.xy().norm() / 2.0;
+            for (j, o) in self.observations.iter().enumerate() {
+                if gated
+                    && (o.rect.center - predicted.mean).norm() > reach + o.rect.extent.norm() / 2.0
+                {
+                    continue;
+                }
+                let center = measured_center(t, o, scan, &self.config);
+                let mahalanobis2 = predicted.mahalanobis_squared(&center.xy());
+                if gated && mahalanobis2 > gate {
+                    continue;
+                }
+                pairs.pairs.push(PairScore {
+                    cluster: j,
+                    chi2: chi2_distance(&t.vfh, clusters[j].vfh),
+                    max_deviation: max_cdf_deviation(&t.cdf, clusters[j].cdf),
+                    mahalanobis2,
+                    nll: predicted.negative_log_likelihood(&center.xy()),
+                });
+            }
+        }
+        self.pairs.truncate(self.tracks.len());
+    }
+
+    /// Corrects track `k` with cluster `j`.
+    fn update(&mut self, k: usize, j: usize, scan: &ScanContext, cluster: &ClusterInput<'_>) {
+        let config = &self.config;
+        let o = &self.observations[j];
+        let t = &mut self.tracks[k];
+        let heading = box_heading(t, o, config);
+        let range = (o.centroid - scan.sensor).xy().norm();
+        let noise = config.motion.measurement_noise(range);
+        // Size first: the box centre is placed with the size this view supports.
+        update_size(t, o, heading, config);
+        let center = measured_center(t, o, scan, config);
+        let yaw = if fast(t, config) {
+            None
+        } else {
+            let prior = class_size(t, o, config);
+            let view = length_heading(&o.rect, prior.x, prior.y, SINGLE_FACE_DEPTH);
+            if heading_error(view, t.motion.yaw()) < MAX_HEADING_STEP {
+                t.heading_flips = 0;
+                Some(view)
+            } else {
+                // Probably the box fit flipping axes; several views in a row: a wrong start.
+                t.heading_flips += 1;
+                if t.heading_flips >= HEADING_RESET_VIEWS {
+                    t.heading_flips = 0;
+                    t.motion.set_heading(view);
+                }
+                None
+            }
+        };
+        t.motion.update(&center, yaw, &noise);
+        t.motion
+            .align_heading_with_velocity(config.motion.heading_from_velocity_speed);
+        t.vfh.clear();
+        t.vfh.extend_from_slice(cluster.vfh);
+        t.cdf.clear();
+        t.cdf.extend_from_slice(cluster.cdf);
+        t.confidence = config.confidence.hit(t.confidence);
+        t.hits += 1;
+        t.misses = 0;
+        t.cluster = Some(j);
+        t.votes.add(o.verdict, config.classify.vote_memory);
+        let c = &config.classify;
+        let displacement = (t.motion.position().xy() - t.birth).norm();
+        let speed = t.motion.velocity().norm();
+        if displacement > c.moving_min_displacement
+            && speed > c.moving_min_speed
+            && speed > 2.0 * t.motion.velocity_sigma()
+        {
+            t.moving = true;
+        }
+    }
+
+    /// Whether unmatched cluster `j` may start a track: not structure, and not a fragment of
+    /// an existing object.
+    fn may_be_born(&self, j: usize) -> bool {
+        let o = &self.observations[j];
+        if matches!(o.verdict, ShapeVerdict::Structure(_)) {
+            return false;
+        }
+        let c = o.rect.center;
+        !self
+            .tracks
+            .iter()
+            .any(|t| t.hits >= self.config.birth_hits && inside_box(t, &c, FRAGMENT_MARGIN))
+    }
+
+    /// Starts a track on cluster `j`.
+    fn birth(&mut self, j: usize, scan: &ScanContext, cluster: &ClusterInput<'_>) {
+        let config = &self.config;
+        let o = &self.observations[j];
+        let class = match o.verdict {
+            ShapeVerdict::Object(class) => Some(class),
+            _ => None,
+        };
+        let prior = class.and_then(|c| config.classify.size_of(c));
+        let (length, width) =
+            prior.map_or((o.shape.length, o.shape.width), |p| (p.length, p.width));
+        let heading = length_heading(&o.rect, length, width, SINGLE_FACE_DEPTH);
+        let (seen_l, seen_w) = extents_along(o, heading);
+        let size = Vector3::new(
+            seen_l.max(prior.map_or(0.0, |p| p.length)),
+            seen_w.max(prior.map_or(0.0, |p| p.width)),
+            o.shape.top,
+        );
+        let xy = place_box(&o.corners(), heading, size.xy(), &scan.sensor.xy());
+        let center = Vector3::new(xy.x, xy.y, o.ground_z + size.z / 2.0);
+        let m = &config.motion;
+        let velocity_sigma = match class {
+            Some(ObjectClass::Car) => m.birth_velocity_sigma_car,
+            Some(ObjectClass::Cyclist) | None => m.birth_velocity_sigma_cyclist,
+            Some(_) => m.birth_velocity_sigma_pedestrian,
+        };
+        let range = (o.centroid - scan.sensor).xy().norm();
+        let mut votes = ClassVotes::default();
+        votes.add(o.verdict, config.classify.vote_memory);
+        self.tracks.push(Track {
+            id: self.next_id,
+            motion: MotionModel::new(center, heading, &m.measurement_noise(range), velocity_sigma),
+            size,
+            vfh: cluster.vfh.to_vec(),
+            cdf: cluster.cdf.to_vec(),
+            confidence: config.confidence.initial,
+            age: 1,
+            hits: 1,
+            misses: 0,
+            votes,
+            birth: center.xy(),
+            moving: false,
+            heading_flips: 0,
+            cluster: Some(j),
+        });
+        self.next_id += 1;
+    }
+}
+
+/// A view whose outline is thinner than this (m) shows one face only.
+const SINGLE_FACE_DEPTH: f64 = 0.5;
+
+/// Whether the track's speed is high and known well enough to give its heading.
+fn fast(t: &Track, config: &TrackConfig) -> bool {
+    let speed = t.motion.velocity().norm();
+    speed >= config.motion.heading_from_velocity_speed && speed > 2.0 * t.motion.velocity_sigma()
+}
+
+/// The heading to place the box of `t` on view `o`: the direction of motion when fast, else
+/// the axis of the view's outline nearest the track's heading.
+fn box_heading(t: &Track, o: &Observation, config: &TrackConfig) -> f64 {
+    if fast(t, config) {
+        let v = t.motion.velocity();
+        return v.y.atan2(v.x);
+    }
+    let theta = t.motion.yaw();
+    let a = o.rect.yaw;
+    let b = o.rect.yaw + FRAC_PI_2;
+    if heading_error(a, theta) <= heading_error(b, theta) {
+        a
+    } else {
+        b
+    }
+}
+
+/// Difference between two headings modulo π, in [0, π/2].
+fn heading_error(a: f64, b: f64) -> f64 {
+    let d = wrap_angle(a - b).abs();
+    d.min(std::f64::consts::PI - d)
+}
+
+/// Visible extents of `o` along `heading` and across it.
+fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
+    if heading_error(heading, o.rect.yaw) < std::f64::consts::FRAC_PI_4 {
+        (o.rect.extent.x, o.rect.extent.y)
+    } else {
+        (o.rect.extent.y, o.rect.extent.x)
+    }
+}
+
+/// The size prior of the track's class (its identity, else this view's verdict), else what
+/// the track has seen.
+fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
+    let class = t.identity().or(match o.verdict {
+        ShapeVerdict::Object(c) => Some(c),
+        _ => None,
+    });
+    class
+        .and_then(|c| config.classify.size_of(c))
+        .map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
+}
+
+/// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
+/// never below the class prior.
+fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfig) {
+    let prior = class_size(t, o, config);
+    let (seen_l, seen_w) = extents_along(o, heading);
+    let target = Vector3::new(seen_l.max(prior.x), seen_w.max(prior.y), o.shape.top);
+    for k in 0..3 {
+        let rate = if target[k] > t.size[k] {
+            SIZE_GROW_RATE
+        } else {
+            config.size_shrink_rate
+        };
+        t.size[k] += rate * (target[k] - t.size[k]);
+    }
+}
+
+/// Where view `o` puts the centre of track `t`'s box.
+fn measured_center(
+    t: &Track,
+    o: &Observation,
+    scan: &ScanContext,
+    config: &TrackConfig,
+) -> Vector3<f64> {
+    let heading = box_heading(t, o, config);
+    let xy = place_box(&o.corners(), heading, t.size.xy(), &scan.sensor.xy());
+    Vector3::new(xy.x, xy.y, o.ground_z + t.size.z / 2.0)
+}
+
+/// Whether `p` lies within `margin` of the track's current box.
+fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
+    let c = t.motion.position().xy();
+    let (s, co) = t.motion.yaw().sin_cos();
+    let d = p - c;
+    let along = (co * d.x + s * d.y).abs();
+    let across = (-s * d.x + co * d.y).abs();
+    along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
+}

@@ -1,0 +1,289 @@
+//! The tracker on synthetic clusters: boxes seen from a sensor (their visible faces only),
+//! moving along straight lines, fed scan by scan.
+
+use nalgebra::{Vector2, Vector3};
+use trackd_perception::track::{
+    AssociationMode, ClusterInput, Ground, ScanContext, TrackConfig, Tracker,
+};
+use trackd_perception::{ObjectClass, Point};
+
+/// A box moving at constant velocity.
+#[derive(Clone, Copy)]
+struct Body {
+    start: Vector2<f64>,
+    velocity: Vector2<f64>,
+    size: Vector3<f64>,
+    /// A rider on a bicycle: above 1.1 m only the central 0.6 m of the length is body.
+    rider: bool,
+}
+
+impl Body {
+    fn center(&self, t: f64) -> Vector2<f64> {
+        self.start + self.velocity * t
+    }
+
+    fn heading(&self) -> f64 {
+        if self.velocity.norm() > 0.0 {
+            self.velocity.y.atan2(self.velocity.x)
+        } else {
+            0.0
+        }
+    }
+
+    /// Points on the faces that look at the sensor at the origin, from 0.2 m above the ground
+    /// to the top.
+    fn visible_points(&self, t: f64, spacing: f64) -> Vec<Point> {
+        let c = self.center(t);
+        let yaw = self.heading();
+        let axis = Vector2::new(yaw.cos(), yaw.sin());
+        let normal = Vector2::new(-axis.y, axis.x);
+        let (l, w, h) = (self.size.x, self.size.y, self.size.z);
+        let faces = [
+            (axis * l / 2.0, normal, w / 2.0),
+            (-axis * l / 2.0, normal, w / 2.0),
+            (normal * w / 2.0, axis, l / 2.0),
+            (-normal * w / 2.0, axis, l / 2.0),
+        ];
+        let mut out = Vec::new();
+        for (offset, dir, half) in faces {
+            let fc = c + offset;
+            if (-fc).dot(&offset) <= 0.0 {
+                continue;
+            }
+            let n = (2.0 * half / spacing).ceil() as i32;
+            let mut z = 0.2;
+            while z <= h {
+                for i in 0..=n {
+                    let p = fc + dir * (-half + 2.0 * half * i as f64 / n as f64);
+                    if self.rider && z > 1.1 && (p - c).dot(&axis).abs() > 0.3 {
+                        continue;
+                    }
+                    out.push(Point::new(p.x as f32, p.y as f32, z as f32, 0.0));
+                }
+                z += spacing;
+            }
+        }
+        out
+    }
+}
+
+fn car(start: (f64, f64), velocity: (f64, f64)) -> Body {
+    Body {
+        start: Vector2::new(start.0, start.1),
+        velocity: Vector2::new(velocity.0, velocity.1),
+        size: Vector3::new(4.4, 1.8, 1.5),
+        rider: false,
+    }
+}
+
+fn cyclist(start: (f64, f64), velocity: (f64, f64)) -> Body {
+    Body {
+        start: Vector2::new(start.0, start.1),
+        velocity: Vector2::new(velocity.0, velocity.1),
+        size: Vector3::new(1.8, 0.6, 1.75),
+        rider: true,
+    }
+}
+
+/// A uniform signature: the tests here exercise geometry and motion, not the VFH tests.
+const FLAT: [f32; 308] = [1.0 / 308.0; 308];
+
+fn flat_cdf() -> Vec<f32> {
+    (1..=308).map(|k| k as f32 / 308.0).collect()
+}
+
+/// Output of one scan: (track id, class, world centre) of each reported track.
+type Reported = Vec<(u64, ObjectClass, Vector3<f64>)>;
+
+/// Runs the tracker over `scans` scans at 10 Hz; `visible(k, i)` says whether body `i` is
+/// seen in scan `k`.
+fn run(
+    config: TrackConfig,
+    bodies: &[Body],
+    scans: usize,
+    visible: impl Fn(usize, usize) -> bool,
+) -> Vec<Reported> {
+    let mut tracker = Tracker::new(config);
+    let cdf = flat_cdf();
+    let mut out = Vec::new();
+    for k in 0..scans {
+        let t = k as f64 * 0.1;
+        let clouds: Vec<Vec<Point>> = bodies
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| visible(k, *i))
+            .map(|(_, b)| b.visible_points(t, 0.15))
+            .collect();
+        let clusters: Vec<ClusterInput<'_>> = clouds
+            .iter()
+            .map(|points| ClusterInput {
+                points,
+                vfh: &FLAT,
+                cdf: &cdf,
+            })
+            .collect();
+        let scan = ScanContext {
+            timestamp: t,
+            sensor: Vector3::new(0.0, 0.0, 1.73),
+            ground: Ground::horizontal(0.0),
+        };
+        tracker.step(&scan, &clusters);
+        out.push(
+            tracker
+                .reported()
+                .map(|tr| {
+                    let s = tr.state();
+                    (s.id, s.class, s.center)
+                })
+                .collect(),
+        );
+    }
+    out
+}
+
+/// The reported track nearest to `p` (BEV) within 2 m.
+fn near(reported: &Reported, p: Vector2<f64>) -> Option<(u64, ObjectClass, f64)> {
+    reported
+        .iter()
+        .map(|(id, class, c)| (*id, *class, (c.xy() - p).norm()))
+        .filter(|(_, _, d)| *d < 2.0)
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+}
+
+#[test]
+fn a_car_driving_away_keeps_one_id_and_its_true_centre() {
+    // Seen from behind only: its centroid lies ~2 m before its centre.
+    let body = car((8.0, 0.0), (5.0, 0.0));
+    let out = run(TrackConfig::default(), &[body], 30, |_, _| true);
+    let mut ids = Vec::new();
+    for (k, reported) in out.iter().enumerate().skip(1) {
+        let truth = body.center(k as f64 * 0.1);
+        let (id, class, d) = near(reported, truth).unwrap_or_else(|| panic!("scan {k}: lost"));
+        assert!(d < 0.5, "scan {k}: centre {d:.2} m off");
+        assert_eq!(class, ObjectClass::Car);
+        ids.push(id);
+        assert_eq!(reported.len(), 1, "scan {k}: {reported:?}");
+    }
+    ids.dedup();
+    assert_eq!(ids.len(), 1, "one id for the whole drive: {ids:?}");
+}
+
+#[test]
+fn a_highway_car_is_reported_from_its_second_scan() {
+    // 30 m/s (3 m per scan) crossing in front, an oncoming one at 33 m/s, and a parked one.
+    let bodies = [
+        car((-30.0, 12.0), (30.0, 0.0)),
+        car((60.0, -4.0), (-33.0, 0.0)),
+        car((10.0, 6.0), (0.0, 0.0)),
+    ];
+    let out = run(TrackConfig::default(), &bodies, 20, |_, _| true);
+    for (k, reported) in out.iter().enumerate().skip(1) {
+        for (i, b) in bodies.iter().enumerate() {
+            let truth = b.center(k as f64 * 0.1);
+            assert!(
+                near(reported, truth).is_some(),
+                "scan {k}: body {i} at {truth:?} not reported: {reported:?}"
+            );
+        }
+    }
+    assert!(out[0].is_empty(), "nothing is reported after one scan");
+}
+
+#[test]
+fn two_cyclists_side_by_side_never_swap() {
+    // Riders 1 m apart (centre to centre), then closing to 0.9 m, riding together.
+    let a = cyclist((6.0, 1.0), (5.0, 0.0));
+    let b = cyclist((6.0, 2.0), (5.0, -0.1));
+    let out = run(TrackConfig::default(), &[a, b], 40, |_, _| true);
+    let mut ids: Option<(u64, u64)> = None;
+    for (k, reported) in out.iter().enumerate().skip(1) {
+        let t = k as f64 * 0.1;
+        let (ia, ca, da) = near(reported, a.center(t)).expect("rider a reported");
+        let (ib, _, db) = near(reported, b.center(t)).expect("rider b reported");
+        assert!(da < 0.45 && db < 0.45, "scan {k}: {da:.2} / {db:.2} m off");
+        assert_ne!(ia, ib);
+        assert_eq!(ca, ObjectClass::Cyclist);
+        match ids {
+            None => ids = Some((ia, ib)),
+            Some(expected) => assert_eq!((ia, ib), expected, "scan {k}: swap"),
+        }
+    }
+}
+
+#[test]
+fn a_short_occlusion_keeps_the_id_and_a_long_one_drops_the_track() {
+    let body = car((10.0, -3.0), (4.0, 1.0));
+    // Hidden in scans 10..13 (0.3 s).
+    let out = run(TrackConfig::default(), &[body], 25, |k, _| {
+        !(10..13).contains(&k)
+    });
+    let id_before = near(&out[9], body.center(0.9)).expect("seen").0;
+    let id_after = near(&out[14], body.center(1.4)).expect("seen again").0;
+    assert_eq!(id_before, id_after);
+    // Coasting is reported for a couple of scans at the predicted position.
+    assert!(near(&out[10], body.center(1.0)).is_some());
+    // Gone for good from scan 5: reported no longer after a short coast.
+    let out = run(TrackConfig::default(), &[body], 30, |k, _| k < 5);
+    assert!(out[29].is_empty());
+    assert!(out[5..].iter().filter(|r| !r.is_empty()).count() <= 2);
+}
+
+#[test]
+fn structure_is_not_reported() {
+    let wall = Body {
+        start: Vector2::new(5.0, 9.0),
+        velocity: Vector2::zeros(),
+        size: Vector3::new(25.0, 0.4, 3.0),
+        rider: false,
+    };
+    let pole = Body {
+        start: Vector2::new(8.0, -4.0),
+        velocity: Vector2::zeros(),
+        size: Vector3::new(0.25, 0.25, 5.0),
+        rider: false,
+    };
+    let kerb = Body {
+        start: Vector2::new(12.0, 4.0),
+        velocity: Vector2::zeros(),
+        size: Vector3::new(8.0, 0.3, 0.35),
+        rider: false,
+    };
+    let parked = car((15.0, -6.0), (0.0, 0.0));
+    let out = run(
+        TrackConfig::default(),
+        &[wall, pole, kerb, parked],
+        10,
+        |_, _| true,
+    );
+    for reported in &out[1..] {
+        assert_eq!(reported.len(), 1, "only the parked car: {reported:?}");
+        assert!(near(reported, parked.center(0.0)).is_some());
+    }
+}
+
+#[test]
+fn every_association_mode_tracks_a_lone_car() {
+    for mode in [
+        AssociationMode::Chi2,
+        AssociationMode::Chi2Mdt,
+        AssociationMode::Chi2MdtMotion,
+        AssociationMode::GatedAssignment,
+    ] {
+        let mut config = TrackConfig::default();
+        config.association.mode = mode;
+        let body = car((12.0, 4.0), (-3.0, 2.0));
+        let out = run(config, &[body], 15, |_, _| true);
+        let ids: std::collections::BTreeSet<u64> = out
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, r)| {
+                let (id, _, d) = near(r, body.center(k as f64 * 0.1)).expect("reported");
+                assert!(d < 0.5, "{mode:?}, scan {k}: {d:.2} m off");
+                id
+            })
+            .collect();
+        assert!(out[1..].iter().all(|r| r.len() == 1), "{mode:?}");
+        assert_eq!(ids.len(), 1, "{mode:?}");
+    }
+}
