@@ -12,6 +12,7 @@ pub mod oxts;
 pub mod pcd;
 pub mod shared_data;
 pub mod timestamps;
+pub mod tracklets;
 
 pub use error::DatasetError;
 pub use shared_data::shared_data_dir;
