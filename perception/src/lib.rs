@@ -13,6 +13,7 @@ pub mod occupancy;
 pub mod oxts;
 pub mod pipeline;
 pub mod point;
+pub mod pose;
 pub mod superframe;
 pub mod track;
 pub mod wire;
