@@ -43,7 +43,8 @@ pub struct ClassifyConfig {
     /// A lowest point higher than this above the ground (m) floats: canopies, signs.
     /// Default 1.0.
     pub max_bottom_gap: f64,
-    /// A top lower than this (m) is a kerb, a bollard, low vegetation. Default 0.9.
+    /// A top lower than this (m) is a kerb, a bollard, a low wall: cars are taller than
+    /// 1.3 m, people than 1.2 m. Default 1.15.
     pub min_object_height: f64,
     /// Poles: a footprint narrower than this (m)... Default 0.45.
     pub pole_max_footprint: f64,
@@ -62,8 +63,26 @@ pub struct ClassifyConfig {
     pub cyclist_max_length: f64,
     /// Shorter BEV side (m) of a person. Default 1.2.
     pub person_max_width: f64,
-    /// Highest top (m) of a person. Default 2.3.
+    /// Highest top (m) of a person. Default 2.1.
     pub person_max_height: f64,
+    /// Highest lowest point (m) of a person: feet are on the ground. Default 0.6.
+    pub person_max_bottom: f64,
+    /// Shortest longer BEV side (m) of a person: thinner is a post. Default 0.25.
+    pub person_min_length: f64,
+    /// Highest lowest point (m) of a car: wheels are on the ground. Default 0.8.
+    pub car_max_bottom: f64,
+    /// Highest top (m) of a car or van; taller needs a truck's length. Default 2.6.
+    pub car_max_height: f64,
+    /// Shortest visible length (m) of something taller than `car_max_height`. Default 5.5.
+    pub truck_min_length: f64,
+    /// A car's upper third (roof, windows) is at least this fraction of its lower third's
+    /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.4.
+    pub car_min_upper_ratio: f64,
+    /// Upper edge of the LiDAR's vertical field of view (degrees above horizontal): a cluster
+    /// whose top reaches it may be taller than it looks. Default 2.0 (HDL-64E).
+    pub sensor_upper_fov_deg: f64,
+    /// A top within this (degrees) of the upper edge is cut by it. Default 0.4.
+    pub truncation_tolerance_deg: f64,
     /// A track whose box moved farther than this from where it was born (m)... Default 2.0.
     pub moving_min_displacement: f64,
     /// ...at a speed above this (m/s) moves. Default 1.0.
@@ -94,7 +113,7 @@ impl Default for ClassifyConfig {
             max_object_length: 16.0,
             max_object_width: 3.5,
             max_bottom_gap: 1.0,
-            min_object_height: 0.9,
+            min_object_height: 1.15,
             pole_max_footprint: 0.45,
             pole_min_height: 2.3,
             tree_spread_ratio: 2.0,
@@ -103,7 +122,15 @@ impl Default for ClassifyConfig {
             pedestrian_max_length: 1.3,
             cyclist_max_length: 2.6,
             person_max_width: 1.2,
-            person_max_height: 2.3,
+            person_max_height: 2.1,
+            person_max_bottom: 0.6,
+            person_min_length: 0.25,
+            car_max_bottom: 0.8,
+            car_max_height: 2.6,
+            truck_min_length: 5.5,
+            car_min_upper_ratio: 0.4,
+            sensor_upper_fov_deg: 2.0,
+            truncation_tolerance_deg: 0.4,
             moving_min_displacement: 2.0,
             moving_min_speed: 1.0,
             vote_memory: 0.9,
@@ -138,6 +165,9 @@ pub struct ShapeFeatures {
     pub upper_width: f64,
     /// Widest BEV extent of the points in the lower third (m).
     pub lower_width: f64,
+    /// Whether the top reaches the upper edge of the sensor's field of view (the object may
+    /// be taller than seen).
+    pub truncated: bool,
 }
 
 /// Why a view is static structure.
@@ -192,8 +222,11 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     }
     let person_shaped = f.upper_width <= c.person_max_upper_width
         && f.width <= c.person_max_width
-        && f.top <= c.person_max_height;
-    if person_shaped {
+        && f.length >= c.person_min_length
+        && f.top <= c.person_max_height
+        && f.bottom <= c.person_max_bottom;
+    // A person-sized top cut by the field of view: a trunk or a post as likely as a person.
+    if person_shaped && !f.truncated {
         if f.length <= c.pedestrian_max_length {
             return Object(ObjectClass::Pedestrian);
         }
@@ -201,7 +234,12 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
             return Object(ObjectClass::Cyclist);
         }
     }
-    if f.length > c.pedestrian_max_length || f.width > c.person_max_width {
+    let car_shaped = !person_shaped
+        && (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
+        && f.bottom <= c.car_max_bottom
+        && f.upper_width >= c.car_min_upper_ratio * f.lower_width
+        && (f.top <= c.car_max_height || f.length >= c.truck_min_length);
+    if car_shaped {
         return Object(ObjectClass::Car);
     }
     ShapeVerdict::Unknown
@@ -278,6 +316,7 @@ mod tests {
             bottom: 0.25,
             upper_width: upper,
             lower_width: lower,
+            truncated: false,
         }
     }
 
@@ -348,6 +387,27 @@ mod tests {
             ..features(2.0, 1.0, 3.5, 2.0, 2.0)
         };
         assert_eq!(v(floating), ShapeVerdict::Structure(Floating));
+    }
+
+    #[test]
+    fn odd_shapes_are_not_objects() {
+        let c = ClassifyConfig::default();
+        let v = |f| classify_shape(&f, &c);
+        // A thin post at pedestrian height.
+        assert_eq!(
+            v(features(0.15, 0.08, 1.8, 0.1, 0.1)),
+            ShapeVerdict::Unknown
+        );
+        // A person-sized trunk whose top is cut by the field of view.
+        let trunk = ShapeFeatures {
+            truncated: true,
+            ..features(0.9, 0.6, 2.05, 0.6, 0.7)
+        };
+        assert_eq!(v(trunk), ShapeVerdict::Unknown);
+        // Car-sized but 2.9 m tall and short: a kiosk, a hedge, a tree's lower canopy.
+        assert_eq!(v(features(3.5, 1.7, 2.9, 3.2, 1.6)), ShapeVerdict::Unknown);
+        // Car-sized but bottom-heavy: a bicycle stand with a post.
+        assert_eq!(v(features(4.3, 1.4, 1.8, 0.8, 3.9)), ShapeVerdict::Unknown);
     }
 
     #[test]

@@ -12,8 +12,10 @@ pub mod config;
 mod histogram;
 pub mod motion;
 pub mod observation;
+pub mod split;
 pub mod tracker;
 
 pub use config::{AssociationMode, TrackConfig};
 pub use observation::Ground;
+pub use split::Splitter;
 pub use tracker::{ClusterInput, PredictedBox, ScanContext, Track, Tracker};

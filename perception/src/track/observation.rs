@@ -78,10 +78,11 @@ pub struct Observer {
 }
 
 impl Observer {
-    /// Measures the cluster made of `points` (world frame).
+    /// Measures the cluster made of `points` (world frame) seen from `sensor`.
     pub fn observe(
         &mut self,
         points: &[Point],
+        sensor: &Vector3<f64>,
         ground: &Ground,
         classify: &ClassifyConfig,
     ) -> Observation {
@@ -96,15 +97,23 @@ impl Observer {
         }
         let centroid = sum / points.len().max(1) as f64;
         let rect = fit_rectangle(&self.bev);
-        let (bottom, top) = self
+        let (bottom, top, highest) = self
             .heights
             .iter()
-            .fold((f64::MAX, f64::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+            .enumerate()
+            .fold((f64::MAX, f64::MIN, 0), |(lo, hi, at), (i, &h)| {
+                (lo.min(h), hi.max(h), if h > hi { i } else { at })
+            });
         let (bottom, top) = if points.is_empty() {
             (0.0, 0.0)
         } else {
             (bottom, top)
         };
+        let truncated = self.bev.get(highest).is_some_and(|p| {
+            let elevation = (top - ground.height(sensor)).atan2((p - sensor.xy()).norm());
+            elevation.to_degrees()
+                >= classify.sensor_upper_fov_deg - classify.truncation_tolerance_deg
+        });
         let third = (top - bottom) / 3.0;
         let upper_width = self.spread(&rect, |h| h >= top - third);
         let lower_width = self.spread(&rect, |h| h <= bottom + third);
@@ -115,6 +124,7 @@ impl Observer {
             bottom,
             upper_width,
             lower_width,
+            truncated,
         };
         Observation {
             centroid,
@@ -197,7 +207,9 @@ mod tests {
             0.2 + ground.z_below(&Vector3::new(10.0, 3.0, 0.0)),
         );
         let points = box_points(base, 4.5, 1.8, 1.3);
-        let o = Observer::default().observe(&points, &ground, &ClassifyConfig::default());
+        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
+        assert!(!o.shape.truncated);
         assert!((o.shape.length - 4.5).abs() < 0.1);
         assert!((o.shape.width - 1.8).abs() < 0.1);
         assert!(
@@ -215,8 +227,22 @@ mod tests {
         let ground = Ground::horizontal(0.0);
         let mut points = box_points(Vector3::new(5.0, 5.0, 0.0), 0.3, 0.3, 2.0);
         points.extend(box_points(Vector3::new(5.0, 5.0, 2.0), 3.0, 3.0, 1.5));
-        let o = Observer::default().observe(&points, &ground, &ClassifyConfig::default());
+        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
         assert!(o.shape.upper_width > 2.5 && o.shape.lower_width < 0.5);
         assert!(matches!(o.verdict, ShapeVerdict::Structure(_)));
+    }
+
+    #[test]
+    fn a_top_at_the_edge_of_the_field_of_view_is_truncated() {
+        let ground = Ground::horizontal(0.0);
+        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        // At 8 m the +2° ray passes 1.73 + 8 tan 2° = 2.01 m above the ground.
+        let post = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.9);
+        let o = Observer::default().observe(&post, &sensor, &ground, &ClassifyConfig::default());
+        assert!(o.shape.truncated);
+        let person = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.5);
+        let o = Observer::default().observe(&person, &sensor, &ground, &ClassifyConfig::default());
+        assert!(!o.shape.truncated);
     }
 }

@@ -213,9 +213,9 @@ impl Tracker {
         }
         self.observations.clear();
         for c in clusters {
-            let o = self
-                .observer
-                .observe(c.points, &scan.ground, &self.config.classify);
+            let o =
+                self.observer
+                    .observe(c.points, &scan.sensor, &scan.ground, &self.config.classify);
             self.observations.push(o);
         }
         self.score_pairs(scan, clusters);

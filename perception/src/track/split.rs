@@ -1,0 +1,195 @@
+//! Track-guided splitting: DBSCAN merges two riders a metre apart into one cluster; when a
+//! cluster holds the predicted boxes of several confirmed tracks, its points are shared out
+//! among them, each point to the box it lies in (or nearest to), so that every track keeps
+//! its own measurement and the riders keep their ids.
+
+use std::ops::Range;
+
+use nalgebra::Vector2;
+
+use super::tracker::PredictedBox;
+use crate::Point;
+
+/// A box claims a cluster when at least this many of its points lie in the box grown by
+/// [`CLAIM_MARGIN`].
+const MIN_CLAIMED_POINTS: usize = 5;
+/// Margin (m) around a predicted box within which its points are claimed.
+const CLAIM_MARGIN: f64 = 0.25;
+/// Points farther than this (m) from every claiming box form a part of their own.
+const OWNERLESS_DISTANCE: f64 = 1.0;
+
+/// Reusable buffers of the split.
+#[derive(Debug, Default)]
+pub struct Splitter {
+    claimants: Vec<usize>,
+    owner: Vec<u32>,
+    scratch: Vec<Point>,
+    counts: Vec<usize>,
+}
+
+impl Splitter {
+    /// Splits the cluster `points` (world frame; reordered in place) among the `boxes` that
+    /// claim it. Appends the ranges of the parts to `parts` (relative to `points`) and returns
+    /// how many were appended: one (the whole cluster) when fewer than two boxes claim it.
+    pub fn split(
+        &mut self,
+        points: &mut [Point],
+        boxes: &[PredictedBox],
+        parts: &mut Vec<Range<usize>>,
+    ) -> usize {
+        self.claimants.clear();
+        for (b, bx) in boxes.iter().enumerate() {
+            let inside = points
+                .iter()
+                .filter(|p| outside_distance(bx, p) <= CLAIM_MARGIN)
+                .take(MIN_CLAIMED_POINTS)
+                .count();
+            if inside >= MIN_CLAIMED_POINTS {
+                self.claimants.push(b);
+            }
+        }
+        if self.claimants.len() < 2 {
+            parts.push(0..points.len());
+            return 1;
+        }
+        // Owner of each point: the claiming box it is nearest to (inside counts as 0, ties go
+        // to the nearer centre); the last slot gathers points far from every box.
+        let ownerless = self.claimants.len() as u32;
+        self.owner.clear();
+        for p in points.iter() {
+            let mut best = (f64::INFINITY, f64::INFINITY, ownerless);
+            for (slot, &b) in self.claimants.iter().enumerate() {
+                let bx = &boxes[b];
+                let d = outside_distance(bx, p);
+                let c = normalised_centre_distance(bx, p);
+                if d <= OWNERLESS_DISTANCE && (d, c) < (best.0, best.1) {
+                    best = (d, c, slot as u32);
+                }
+            }
+            self.owner.push(best.2);
+        }
+        // Counting sort of the points by owner.
+        self.counts.clear();
+        self.counts.resize(self.claimants.len() + 2, 0);
+        for &o in &self.owner {
+            self.counts[o as usize + 1] += 1;
+        }
+        for k in 1..self.counts.len() {
+            self.counts[k] += self.counts[k - 1];
+        }
+        let starts = self.counts.clone();
+        self.scratch.clear();
+        self.scratch.resize(points.len(), Point::default());
+        for (p, &o) in points.iter().zip(&self.owner) {
+            let slot = &mut self.counts[o as usize];
+            self.scratch[*slot] = *p;
+            *slot += 1;
+        }
+        points.copy_from_slice(&self.scratch);
+        let before = parts.len();
+        for w in starts.windows(2) {
+            if w[1] > w[0] {
+                parts.push(w[0]..w[1]);
+            }
+        }
+        parts.len() - before
+    }
+}
+
+/// The point in the box's frame.
+fn local(bx: &PredictedBox, p: &Point) -> Vector2<f64> {
+    let d = Vector2::new(p.x as f64, p.y as f64) - bx.center;
+    let (s, c) = bx.heading.sin_cos();
+    Vector2::new(c * d.x + s * d.y, -s * d.x + c * d.y)
+}
+
+/// Distance (m, ground plane) from `p` to the box; 0 inside.
+fn outside_distance(bx: &PredictedBox, p: &Point) -> f64 {
+    let q = local(bx, p);
+    let dx = (q.x.abs() - bx.size.x / 2.0).max(0.0);
+    let dy = (q.y.abs() - bx.size.y / 2.0).max(0.0);
+    dx.hypot(dy)
+}
+
+/// Distance from the box centre in units of the half extents.
+fn normalised_centre_distance(bx: &PredictedBox, p: &Point) -> f64 {
+    let q = local(bx, p);
+    (q.x / (bx.size.x / 2.0).max(0.1)).hypot(q.y / (bx.size.y / 2.0).max(0.1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rider(cx: f64, cy: f64) -> Vec<Point> {
+        let mut out = Vec::new();
+        for i in 0..18 {
+            for z in 0..15 {
+                let x = cx - 0.9 + i as f64 * 0.1;
+                out.push(Point::new(x as f32, cy as f32, z as f32 * 0.12, 0.0));
+            }
+        }
+        out
+    }
+
+    fn predicted(id: u64, cx: f64, cy: f64) -> PredictedBox {
+        PredictedBox {
+            id,
+            center: Vector2::new(cx, cy),
+            heading: 0.0,
+            size: Vector2::new(1.8, 0.6),
+        }
+    }
+
+    #[test]
+    fn shares_a_merged_cluster_between_the_riders_it_holds() {
+        let mut points = rider(10.0, 0.0);
+        points.extend(rider(10.0, 1.0));
+        let n = points.len();
+        let boxes = [
+            predicted(1, 10.1, 0.05),
+            predicted(2, 9.9, 0.95),
+            predicted(3, 30.0, 0.0),
+        ];
+        let mut parts = Vec::new();
+        assert_eq!(
+            Splitter::default().split(&mut points, &boxes, &mut parts),
+            2
+        );
+        assert_eq!(parts, vec![0..n / 2, n / 2..n]);
+        assert!(points[parts[0].clone()].iter().all(|p| p.y.abs() < 0.01));
+        assert!(
+            points[parts[1].clone()]
+                .iter()
+                .all(|p| (p.y - 1.0).abs() < 0.01)
+        );
+    }
+
+    #[test]
+    fn a_cluster_claimed_once_stays_whole() {
+        let mut points = rider(10.0, 0.0);
+        let before = points.clone();
+        let mut parts = Vec::new();
+        let boxes = [predicted(1, 10.0, 0.0), predicted(2, 10.0, 3.0)];
+        assert_eq!(
+            Splitter::default().split(&mut points, &boxes, &mut parts),
+            1
+        );
+        assert_eq!(parts, vec![0..points.len()]);
+        assert_eq!(points, before);
+    }
+
+    #[test]
+    fn points_far_from_every_box_form_their_own_part() {
+        let mut points = rider(10.0, 0.0);
+        points.extend(rider(10.0, 1.0));
+        points.extend(rider(13.5, 0.5));
+        let boxes = [predicted(1, 10.0, 0.0), predicted(2, 10.0, 1.0)];
+        let mut parts = Vec::new();
+        assert_eq!(
+            Splitter::default().split(&mut points, &boxes, &mut parts),
+            3
+        );
+        assert!(points[parts[2].clone()].iter().all(|p| p.x > 12.5));
+    }
+}
