@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod config;
+pub mod fleet;
 pub mod frame;
 pub mod geo;
 pub mod occupancy;
