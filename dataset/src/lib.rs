@@ -12,9 +12,12 @@ mod numfmt;
 pub mod oxts;
 pub mod pcd;
 pub mod poses;
+pub mod scan;
 pub mod shared_data;
+pub mod source;
 pub mod timestamps;
 pub mod tracklets;
 
 pub use error::DatasetError;
 pub use shared_data::shared_data_dir;
+pub use source::{OpenOptions, ScanStats, Source, SourceKind, open};
