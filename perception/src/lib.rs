@@ -6,10 +6,12 @@
 
 #![warn(missing_docs)]
 
+pub mod cluster;
 pub mod config;
 pub mod fleet;
 pub mod frame;
 pub mod geo;
+mod grid;
 pub mod occupancy;
 pub mod oxts;
 pub mod pipeline;
