@@ -73,7 +73,11 @@ pub struct ClassifyConfig {
     pub car_max_bottom: f64,
     /// Highest top (m) of a car or van; taller needs a truck's length. Default 2.6.
     pub car_max_height: f64,
-    /// Shortest visible length (m) of something taller than `car_max_height`. Default 5.5.
+    /// Highest top (m) of a car whose top is cut by the field of view: the cut passes below a
+    /// van's roof only within about 10 m of the sensor; a taller cut object is a tree or a
+    /// building. Default 2.1.
+    pub car_max_truncated_top: f64,
+    /// Shortest visible length (m) of something taller than a car: a truck. Default 6.5.
     pub truck_min_length: f64,
     /// A car's upper third (roof, windows) is at least this fraction of its lower third's
     /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.4.
@@ -127,7 +131,8 @@ impl Default for ClassifyConfig {
             person_min_length: 0.25,
             car_max_bottom: 0.8,
             car_max_height: 2.6,
-            truck_min_length: 5.5,
+            car_max_truncated_top: 2.1,
+            truck_min_length: 6.5,
             car_min_upper_ratio: 0.4,
             sensor_upper_fov_deg: 2.0,
             truncation_tolerance_deg: 0.4,
@@ -238,7 +243,13 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         && (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
         && f.bottom <= c.car_max_bottom
         && f.upper_width >= c.car_min_upper_ratio * f.lower_width
-        && (f.top <= c.car_max_height || f.length >= c.truck_min_length);
+        && (f.length >= c.truck_min_length
+            || f.top
+                <= if f.truncated {
+                    c.car_max_truncated_top
+                } else {
+                    c.car_max_height
+                });
     if car_shaped {
         return Object(ObjectClass::Car);
     }
@@ -276,31 +287,36 @@ impl ClassVotes {
         }
     }
 
-    /// The object class the votes point to (the most voted one), `None` when structure
-    /// outweighs every object class together or nothing was voted. A moving track is
-    /// never structure by size alone: it is its most voted object class or "other movable".
+    /// The object class the votes point to, or `None` (structure, or not identified).
+    ///
+    /// Structure outweighing everything else is structure, moving or not (the visible part of
+    /// a wall slides along it as the vehicle passes). A static track is its most voted object
+    /// class when object votes outweigh structure and unclear views; a moving one needs only
+    /// to outweigh half the unclear views, and is "other movable" when it fits no class.
     pub fn identity(&self, moving: bool) -> Option<ObjectClass> {
-        let classes = [
+        let objects = self.car + self.cyclist + self.pedestrian;
+        if self.structure >= objects + self.unknown {
+            return None;
+        }
+        let best = [
             (self.car, ObjectClass::Car),
             (self.cyclist, ObjectClass::Cyclist),
             (self.pedestrian, ObjectClass::Pedestrian),
-        ];
-        let objects = self.car + self.cyclist + self.pedestrian;
-        let best = classes
-            .into_iter()
-            .max_by(|a, b| a.0.total_cmp(&b.0))
-            .filter(|(v, _)| *v > 0.0);
+        ]
+        .into_iter()
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(v, _)| *v > 0.0)
+        .map(|(_, class)| class);
         if moving {
-            let evidence_against = self.structure + self.unknown;
-            return Some(match best {
-                Some((v, class)) if objects >= 0.5 * evidence_against && v > 0.0 => class,
-                _ => ObjectClass::OtherMovable,
-            });
+            if objects >= 0.5 * self.unknown {
+                return best;
+            }
+            return Some(ObjectClass::OtherMovable);
         }
         if self.structure >= objects || self.unknown > objects {
             return None;
         }
-        best.map(|(_, class)| class)
+        best
     }
 }
 
@@ -428,6 +444,13 @@ mod tests {
         }
         assert_eq!(odd.identity(false), None);
         assert_eq!(odd.identity(true), Some(ObjectClass::OtherMovable));
+        // A wall whose visible part slides along it looks like it moves: still structure.
+        let mut wall = ClassVotes::default();
+        for _ in 0..5 {
+            wall.add(ShapeVerdict::Structure(StructureKind::TooLarge), 0.9);
+        }
+        wall.add(ShapeVerdict::Unknown, 0.9);
+        assert_eq!(wall.identity(true), None);
         // Recent views weigh more: a cyclist first seen merged with a bush.
         let mut recent = ClassVotes::default();
         for _ in 0..3 {
