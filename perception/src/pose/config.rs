@@ -28,18 +28,21 @@ pub struct PoseConfig {
     pub initial_velocity_sigma: f64,
     /// Initial standard deviation of roll and pitch, rad. Default 0.02.
     pub initial_roll_pitch_sigma: f64,
-    /// Initial standard deviation of yaw, rad. Default 0.05.
+    /// Initial standard deviation of yaw (taken from the first packet), rad. Default 0.01.
     pub initial_yaw_sigma: f64,
     /// Initial standard deviation of each accelerometer bias, m/s². Default 0.3.
     pub initial_accel_bias_sigma: f64,
-    /// Initial standard deviation of each gyroscope bias, rad/s. Default 0.01.
+    /// Initial standard deviation of each gyroscope bias, rad/s. Default 0.003 (0.17°/s).
     pub initial_gyro_bias_sigma: f64,
 
     /// Smallest standard deviation assumed for a GPS position, per axis, in metres: a packet's
     /// `pos_accuracy` is used when larger. Default 0.5.
     pub gps_position_sigma: f64,
+    /// Vertical GPS standard deviation as a multiple of the horizontal one (`pos_accuracy` is
+    /// KITTI's north/east accuracy; satellite geometry makes height worse). Default 1.6.
+    pub gps_vertical_sigma_ratio: f64,
     /// Smallest standard deviation assumed for a GPS velocity, per axis, in m/s: a packet's
-    /// `vel_accuracy` is used when larger. Default 0.1.
+    /// `vel_accuracy` is used when larger. Default 0.05.
     pub gps_velocity_sigma: f64,
     /// A fix whose `pos_accuracy` exceeds this (metres) is a dropout. Default 5.0.
     pub max_pos_accuracy: f64,
@@ -61,10 +64,19 @@ pub struct PoseConfig {
     /// by tens of centimetres; the OXTS unit's own gravity-referenced tilt (0.03° class on
     /// KITTI's RT3003) anchors it. Default 0.005 (0.3°).
     pub packet_roll_pitch_sigma: f64,
-    /// Standard deviation of the packet's yaw used as a measurement, rad; 0 turns it off.
-    /// Default 0 (off: yaw comes from the gyroscope, GPS velocity and the non-holonomic
-    /// constraint; the packet's yaw only initialises it).
+    /// Standard deviation of the packet's yaw used as a measurement, rad; 0 turns it off. The
+    /// gyroscope, GPS velocity and the non-holonomic constraint make yaw observable only while
+    /// moving, and only to about σ_velocity / speed per fix: slowly, the packet's yaw (the OXTS
+    /// unit's own heading, 0.1° class on KITTI) keeps it from wandering at low speed, standing
+    /// still and through outages. Default 0.01 (0.6°): a loose anchor, the gyroscope still
+    /// carries yaw from frame to frame.
     pub packet_yaw_sigma: f64,
+    /// Standard deviation, per axis, of the packet's attitude change between two packets, rad;
+    /// 0 turns it off. The gyroscope is sampled once per scan, so a rate that changes abruptly
+    /// between two samples leaves its integral uncertain; there the packet's attitude change
+    /// (integrated by the unit at its internal rate) is weighted in. Where rates change
+    /// smoothly it has no effect. Default 0.003 (0.17°).
+    pub packet_attitude_increment_sigma: f64,
 
     /// Mahalanobis gate (squared) on the 3-D GPS position innovation: a larger value rejects the
     /// fix as a jump. Default 16.27 (χ² with 3 degrees of freedom at 99.9 %).
@@ -77,6 +89,14 @@ pub struct PoseConfig {
     /// and re-anchors that part of its state on the measurement (a real, lasting shift).
     /// Default 30 (3 s at 10 Hz).
     pub max_consecutive_rejections: u32,
+
+    /// Fastest the published position may move away from where the IMU carried it, to absorb
+    /// a large GPS correction (after an outage), m/s; 0 publishes the filter's position as is.
+    /// Smaller corrections pass straight through; see [`PoseEstimator::output_offset`].
+    /// Default 1.0 (0.1 m per 10 Hz frame).
+    ///
+    /// [`PoseEstimator::output_offset`]: super::PoseEstimator::output_offset
+    pub max_output_correction_speed: f64,
 
     /// A gap between packets longer than this (seconds) re-initialises the filter from the next
     /// usable fix instead of predicting through it. Default 1.0.
@@ -93,22 +113,25 @@ impl Default for PoseConfig {
             gyro_bias_walk: 2e-5,
             initial_velocity_sigma: 2.0,
             initial_roll_pitch_sigma: 0.02,
-            initial_yaw_sigma: 0.05,
+            initial_yaw_sigma: 0.01,
             initial_accel_bias_sigma: 0.3,
-            initial_gyro_bias_sigma: 0.01,
+            initial_gyro_bias_sigma: 0.003,
             gps_position_sigma: 0.5,
-            gps_velocity_sigma: 0.1,
+            gps_vertical_sigma_ratio: 1.6,
+            gps_velocity_sigma: 0.05,
             max_pos_accuracy: 5.0,
             max_vel_accuracy: 2.0,
             min_numsats: 4,
             good_navstat: vec![4],
             nonholonomic_sigma: 0.1,
             packet_roll_pitch_sigma: 0.005,
-            packet_yaw_sigma: 0.0,
+            packet_yaw_sigma: 0.01,
+            packet_attitude_increment_sigma: 0.003,
             position_gate: 16.27,
             velocity_gate: 16.27,
             attitude_gate: 16.27,
             max_consecutive_rejections: 30,
+            max_output_correction_speed: 1.0,
             max_prediction_gap: 1.0,
         }
     }

@@ -15,6 +15,7 @@ use super::{
     state::{
         ACCEL_BIAS, ATTITUDE, Covariance, ERROR_STATE_DIM, GYRO_BIAS, NavState, POSITION, VELOCITY,
     },
+    turn,
 };
 
 const N: usize = ERROR_STATE_DIM;
@@ -47,26 +48,44 @@ pub(crate) struct ErrorStateEkf {
 
 impl ErrorStateEkf {
     /// Integrates the IMU from one sample to the next over `dt` seconds (trapezoidal rates and
-    /// specific forces; velocity rotated at the mid-point attitude) and propagates the
-    /// covariance.
-    pub fn predict(&mut self, dt: f64, from: &ImuSample, to: &ImuSample, cfg: &PoseConfig) {
+    /// specific forces, the rotation refined by the packet's attitude `increment` over the step
+    /// where sampling leaves it uncertain, see [`super::turn`]; velocity rotated at the
+    /// mid-point attitude) and propagates the covariance.
+    pub fn predict(
+        &mut self,
+        dt: f64,
+        from: &ImuSample,
+        to: &ImuSample,
+        increment: Option<&UnitQuaternion<f64>>,
+        cfg: &PoseConfig,
+    ) {
         let s = &mut self.state;
-        let gyro = (from.gyro + to.gyro) * 0.5 - s.gyro_bias;
+        let turn = turn::turn(
+            dt,
+            &(from.gyro - s.gyro_bias),
+            &(to.gyro - s.gyro_bias),
+            increment,
+            cfg.packet_attitude_increment_sigma,
+            cfg.gyro_noise_density * dt.sqrt(),
+        );
         let accel = (from.accel + to.accel) * 0.5 - s.accel_bias;
         let gravity = Vector3::new(0.0, 0.0, -cfg.gravity);
 
-        let turn = UnitQuaternion::from_scaled_axis(gyro * dt);
-        let mid = s.orientation * UnitQuaternion::from_scaled_axis(gyro * (0.5 * dt));
+        let rotation_step = UnitQuaternion::from_scaled_axis(turn.rotation);
+        let mid = s.orientation * UnitQuaternion::from_scaled_axis(turn.rotation * 0.5);
         let rotation = mid.to_rotation_matrix().into_inner();
         let accel_world = rotation * accel + gravity;
 
         s.position += s.velocity * dt + accel_world * (0.5 * dt * dt);
         s.velocity += accel_world * dt;
-        s.orientation *= turn;
+        s.orientation *= rotation_step;
         s.orientation.renormalize_fast();
 
-        let f = transition(dt, &rotation, &accel, &turn);
-        let q = process_noise(dt, cfg);
+        let f = transition(dt, &rotation, &accel, &rotation_step, &turn.gyro_share);
+        let mut q = process_noise(dt, cfg);
+        for i in 0..3 {
+            q[(ATTITUDE + i, ATTITUDE + i)] += turn.variance[i];
+        }
         let p = f * self.covariance * f.transpose() + q;
         self.covariance = (p + p.transpose()) * 0.5;
     }
@@ -107,12 +126,13 @@ impl ErrorStateEkf {
 }
 
 /// The error-state transition over `dt` with the mid-point rotation, bias-corrected specific
-/// force and the step's rotation increment.
+/// force, the step's rotation and the gyroscope's per-axis share in it.
 fn transition(
     dt: f64,
     rotation: &Matrix3<f64>,
     accel: &Vector3<f64>,
     turn: &UnitQuaternion<f64>,
+    gyro_share: &Vector3<f64>,
 ) -> Covariance {
     let mut f = Covariance::identity();
     let r_ax = rotation * accel.cross_matrix();
@@ -129,7 +149,7 @@ fn transition(
     f.fixed_view_mut::<3, 3>(ATTITUDE, ATTITUDE)
         .copy_from(&turn.inverse().to_rotation_matrix().into_inner());
     f.fixed_view_mut::<3, 3>(ATTITUDE, GYRO_BIAS)
-        .copy_from(&(Matrix3::identity() * -dt));
+        .copy_from(&Matrix3::from_diagonal(&(gyro_share * -dt)));
     f
 }
 
@@ -194,7 +214,7 @@ mod tests {
         let mut ekf = filter();
         let imu = at_rest(cfg.gravity);
         for _ in 0..10 {
-            ekf.predict(0.1, &imu, &imu, &cfg);
+            ekf.predict(0.1, &imu, &imu, None, &cfg);
         }
         assert!((ekf.state.position - Vector3::new(10.0, 0.0, 0.0)).norm() < 1e-9);
         assert!((ekf.state.velocity - Vector3::new(10.0, 0.0, 0.0)).norm() < 1e-9);
@@ -212,7 +232,7 @@ mod tests {
             gyro: Vector3::new(0.0, 0.0, 0.5),
         };
         for _ in 0..(std::f64::consts::PI / 0.5 / 0.01).round() as usize {
-            ekf.predict(0.01, &imu, &imu, &cfg);
+            ekf.predict(0.01, &imu, &imu, None, &cfg);
         }
         // Half a circle: heading west, 40 m north of the start.
         assert!((ekf.state.velocity - Vector3::new(-10.0, 0.0, 0.0)).norm() < 0.05);

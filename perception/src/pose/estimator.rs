@@ -10,6 +10,7 @@ use super::{
     imu::ImuSample,
     measurement,
     report::{FixOutcome, StepReport},
+    slew::Slew,
     state::{ACCEL_BIAS, ATTITUDE, Covariance, GYRO_BIAS, NavState, POSITION, VELOCITY},
 };
 use crate::{geo::GeoOrigin, oxts::Oxts};
@@ -39,6 +40,7 @@ struct Filter {
     imu: ImuSample,
     position_rejections: u32,
     velocity_rejections: u32,
+    slew: Slew,
 }
 
 impl PoseEstimator {
@@ -81,7 +83,11 @@ impl PoseEstimator {
         };
         self.report = report;
         self.last_timestamp = Some(timestamp);
-        let pose = self.imu_pose().map(|imu| imu * self.velo_to_imu);
+        let pose = self.filter.as_ref().map(|f| {
+            let mut imu = f.ekf.state.pose();
+            imu.translation.vector += f.slew.offset();
+            imu * self.velo_to_imu
+        });
         self.pose = pose;
         // the filter exists here: either it ran a step or it was just initialised
         pose.ok_or(PoseError::AwaitingAttitude)
@@ -112,7 +118,14 @@ impl PoseEstimator {
         self.pose
     }
 
-    /// The filtered IMU pose in the world frame (`None` before initialisation).
+    /// How far the published position is from the filter's own (world frame, metres): a
+    /// large GPS correction being released at [`PoseConfig::max_output_correction_speed`].
+    pub fn output_offset(&self) -> Option<Vector3<f64>> {
+        self.filter.as_ref().map(|f| f.slew.offset())
+    }
+
+    /// The filtered IMU pose in the world frame (`None` before initialisation), without the
+    /// [`output_offset`](Self::output_offset).
     pub fn imu_pose(&self) -> Option<Isometry3<f64>> {
         self.filter.as_ref().map(|f| f.ekf.state.pose())
     }
@@ -228,7 +241,7 @@ impl PoseEstimator {
                 covariance[(first + i, first + i)] = s * s;
             }
         };
-        set(POSITION, [fix.sigma; 3]);
+        set(POSITION, [fix.sigma, fix.sigma, fix.sigma_up]);
         set(VELOCITY, [velocity_sigma; 3]);
         let (rp, y) = (cfg.initial_roll_pitch_sigma, cfg.initial_yaw_sigma);
         set(ATTITUDE, [rp, rp, y]);
@@ -253,6 +266,7 @@ impl PoseEstimator {
             imu,
             position_rejections: 0,
             velocity_rejections: 0,
+            slew: Slew::default(),
         });
         Ok(StepReport {
             position: FixOutcome::Initialised,
@@ -270,34 +284,32 @@ impl PoseEstimator {
         };
         let sample = ImuSample::from_oxts(oxts);
         let imu = sample.unwrap_or(f.imu);
-        f.ekf.predict(timestamp - f.timestamp, &f.imu, &imu, cfg);
+        let attitudes = [&f.packet, oxts].map(|p| {
+            [p.roll, p.pitch, p.yaw]
+                .iter()
+                .all(|a| a.is_finite())
+                .then(|| p.orientation())
+        });
+        let increment = match attitudes {
+            [Some(before), Some(after)] => Some(before.inverse() * after),
+            _ => None,
+        };
+        let dt = timestamp - f.timestamp;
+        f.ekf.predict(dt, &f.imu, &imu, increment.as_ref(), cfg);
+        let predicted = f.ekf.state.position;
 
         let velocity = match gps::velocity_fix(oxts, Some(&f.packet), cfg) {
             Err(d) => FixOutcome::Dropout(d),
             Ok(fix) => {
                 let m = measurement::velocity(&f.ekf.state, &fix);
-                gated(
-                    &mut f.ekf,
-                    &m,
-                    cfg,
-                    VELOCITY,
-                    fix.sigma,
-                    &mut f.velocity_rejections,
-                )
+                gated(&mut f.ekf, &m, cfg, VELOCITY, &mut f.velocity_rejections)
             }
         };
         let position = match gps::position_fix(oxts, Some(&f.packet), origin, cfg) {
             Err(d) => FixOutcome::Dropout(d),
             Ok(fix) => {
                 let m = measurement::position(&f.ekf.state, &fix);
-                gated(
-                    &mut f.ekf,
-                    &m,
-                    cfg,
-                    POSITION,
-                    fix.sigma,
-                    &mut f.position_rejections,
-                )
+                gated(&mut f.ekf, &m, cfg, POSITION, &mut f.position_rejections)
             }
         };
         if cfg.nonholonomic_sigma > 0.0 {
@@ -320,6 +332,13 @@ impl PoseEstimator {
             }
         }
 
+        if matches!(position, FixOutcome::Reanchored { .. }) {
+            f.slew.reset();
+        } else {
+            let correction = f.ekf.state.position - predicted;
+            f.slew
+                .absorb(&correction, dt, cfg.max_output_correction_speed);
+        }
         f.timestamp = timestamp;
         f.packet = *oxts;
         f.imu = imu;
@@ -340,7 +359,6 @@ fn gated(
     m: &Measurement<3>,
     cfg: &PoseConfig,
     block: usize,
-    sigma: f64,
     rejections: &mut u32,
 ) -> FixOutcome {
     let gate = if block == POSITION {
@@ -359,6 +377,7 @@ fn gated(
                 return FixOutcome::Rejected { nis };
             }
             *rejections = 0;
+            let sigma = m.noise.diagonal().max().sqrt();
             ekf.forget_block(block, m.residual.norm() + 10.0 * sigma);
             match ekf.correct(m, f64::INFINITY) {
                 Correction::Applied(_) => FixOutcome::Reanchored { nis },

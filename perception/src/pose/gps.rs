@@ -40,8 +40,10 @@ pub enum Dropout {
 pub(crate) struct PositionFix {
     /// East, north, up metres from the origin.
     pub position: Vector3<f64>,
-    /// Standard deviation per axis, metres.
+    /// Standard deviation east and north, metres.
     pub sigma: f64,
+    /// Standard deviation up, metres.
+    pub sigma_up: f64,
 }
 
 /// A usable GPS velocity in the world frame.
@@ -97,9 +99,11 @@ pub(crate) fn position_fix(
     if !position.iter().all(|v| v.is_finite()) {
         return Err(Dropout::NonFinite);
     }
+    let sigma = cfg.gps_position_sigma.max(oxts.pos_accuracy);
     Ok(PositionFix {
         position,
-        sigma: cfg.gps_position_sigma.max(oxts.pos_accuracy),
+        sigma,
+        sigma_up: sigma * cfg.gps_vertical_sigma_ratio,
     })
 }
 
@@ -165,6 +169,10 @@ mod tests {
         };
         let fix = position_fix(&oxts, None, &ORIGIN, &PoseConfig::default()).unwrap();
         assert_eq!(fix.sigma, 2.0);
+        assert_eq!(
+            fix.sigma_up,
+            2.0 * PoseConfig::default().gps_vertical_sigma_ratio
+        );
     }
 
     #[test]

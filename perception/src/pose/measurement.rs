@@ -11,7 +11,7 @@ use super::{
 
 const N: usize = ERROR_STATE_DIM;
 
-/// A GPS position: the IMU's world position, per-axis σ.
+/// A GPS position: the IMU's world position, σ east/north and σ up.
 pub(crate) fn position(state: &NavState, fix: &PositionFix) -> Measurement<3> {
     let mut jacobian = SMatrix::<f64, 3, N>::zeros();
     jacobian
@@ -20,7 +20,11 @@ pub(crate) fn position(state: &NavState, fix: &PositionFix) -> Measurement<3> {
     Measurement {
         residual: fix.position - state.position,
         jacobian,
-        noise: Matrix3::identity() * fix.sigma.powi(2),
+        noise: Matrix3::from_diagonal(&Vector3::new(
+            fix.sigma.powi(2),
+            fix.sigma.powi(2),
+            fix.sigma_up.powi(2),
+        )),
     }
 }
 

@@ -1,22 +1,30 @@
 //! Stage 1 of the paper: ego-vehicle pose estimation.
 //!
 //! An error-state extended Kalman filter (ESKF) over 15 error states — position, velocity,
-//! attitude, accelerometer bias, gyroscope bias — whose nominal state is integrated from the
-//! OXTS packet's IMU (`ax, ay, az` specific force and `wx, wy, wz` rates, IMU frame) and
-//! corrected by the packet's GPS position (`lat, lon, alt` through the fleet's
-//! [`GeoOrigin`](crate::geo::GeoOrigin)) and GPS velocity (`ve, vn, vu`), plus a
-//! non-holonomic pseudo-measurement (a car does not slide sideways or lift off) and, loosely,
-//! the packet's own gravity-referenced roll and pitch.
+//! attitude, accelerometer bias, gyroscope bias. The OXTS packet's IMU (`ax, ay, az` specific
+//! force and `wx, wy, wz` rates, IMU frame) drives the prediction; the packet's GPS position
+//! (`lat, lon, alt` through the fleet's [`GeoOrigin`](crate::geo::GeoOrigin)) and GPS
+//! velocity (`ve, vn, vu`) correct it, with a non-holonomic pseudo-measurement (a car does not
+//! slide sideways or lift off) and, loosely, the unit's own roll, pitch and yaw as anchors.
 //!
 //! Why this filter: a full 3-D attitude (not a planar model) keeps pitch and roll consistent
-//! with the accelerometers on slopes and in turns, and estimated biases keep a cheap,
-//! bias-y IMU usable through GPS dropouts; the error-state form keeps the attitude
-//! linearisation well-conditioned. Yaw, which matters most for placing far objects, is
-//! observable from GPS velocity together with the non-holonomic constraint even at constant
-//! speed. GPS jumps are rejected by a Mahalanobis gate on the innovation ([`PoseConfig`]).
-//! See [`gps`] for what counts as a dropout.
+//! with the accelerometers on slopes and in turns; estimated biases keep a bias-y IMU usable
+//! through GPS dropouts; the error-state form keeps the attitude linearisation
+//! well-conditioned. Yaw matters most for placing far objects (0.1° is 7 cm at 40 m): the
+//! gyroscope carries it from frame to frame, GPS velocity with the non-holonomic constraint
+//! and the packet's heading hold it over time.
 //!
-//! One 15×15 predict and four small corrections per scan: microseconds.
+//! Three details keep a static object still in the world from frame to frame (the tracker's
+//! need, beyond absolute accuracy):
+//! - the IMU is sampled once per scan; where the rates change abruptly between two samples
+//!   the packet's attitude increment refines the rotation (`turn.rs`);
+//! - GPS jumps are rejected by a Mahalanobis gate on the innovation ([`PoseConfig`]); a shift
+//!   that lasts is re-anchored on;
+//! - after an outage the filter corrects at once, but the published position releases a large
+//!   correction at a bounded speed ([`PoseConfig::max_output_correction_speed`]).
+//!
+//! See [`gps`] for what counts as a dropout. One 15×15 predict and five small corrections per
+//! scan: microseconds.
 
 mod config;
 mod ekf;
@@ -27,7 +35,9 @@ pub mod gps;
 mod imu;
 mod measurement;
 mod report;
+mod slew;
 mod state;
+mod turn;
 
 pub use config::PoseConfig;
 pub use error::PoseError;
