@@ -6,7 +6,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
     /// A file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {}: {source}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
@@ -14,7 +14,7 @@ pub enum EvalError {
         source: std::io::Error,
     },
     /// A CSV file lacks a column the format requires.
-    #[error("{path}: header lacks column `{column}`")]
+    #[error("{}: header lacks column `{column}`", path.display())]
     MissingColumn {
         /// The file.
         path: PathBuf,
@@ -22,7 +22,7 @@ pub enum EvalError {
         column: String,
     },
     /// A row does not parse (wrong field count, not a number, …).
-    #[error("{path}:{line}: {message}")]
+    #[error("{}:{line}: {message}", path.display())]
     BadRow {
         /// The file.
         path: PathBuf,
@@ -32,7 +32,7 @@ pub enum EvalError {
         message: String,
     },
     /// A coordinate is NaN or infinite.
-    #[error("{path}:{line}: column `{column}` is not finite")]
+    #[error("{}:{line}: column `{column}` is not finite", path.display())]
     NonFinite {
         /// The file.
         path: PathBuf,
@@ -42,7 +42,7 @@ pub enum EvalError {
         column: String,
     },
     /// The same (frame, id) appears twice.
-    #[error("{path}:{line}: frame {frame} id {id} repeats line {first_line}")]
+    #[error("{}:{line}: frame {frame} id {id} repeats line {first_line}", path.display())]
     Duplicate {
         /// The file.
         path: PathBuf,
@@ -54,5 +54,16 @@ pub enum EvalError {
         frame: u32,
         /// The repeated track or object id.
         id: u64,
+    },
+    /// A dataset file (KITTI labels, calibration, tracklets, scans) could not be read.
+    #[error(transparent)]
+    Dataset(#[from] trackd_dataset::DatasetError),
+    /// Ground truth that reads but breaks a rule of its format (e.g. a repeated object).
+    #[error("{}: {message}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
     },
 }

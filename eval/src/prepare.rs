@@ -235,6 +235,7 @@ mod tests {
                 max_range: 40.0,
                 camera: Some(forward_camera()),
             }),
+            ..GroundTruth::default()
         }
     }
 
@@ -320,6 +321,7 @@ mod tests {
                 ..GtFrame::default()
             }],
             view: None,
+            ..GroundTruth::default()
         };
         let tracks = [
             track(0, 10, 10.0, 0.2),  // pairs with the counted object
@@ -342,6 +344,7 @@ mod tests {
                 ..GtFrame::default()
             }],
             view: None,
+            ..GroundTruth::default()
         };
         let tracks = [track(0, 10, 10.0, 0.0), track(2, 10, 10.0, 0.0)];
         let (frames, _) = prepare(&gt, &tracks, &EvalConfig::default());

@@ -3,7 +3,11 @@
 use serde::Serialize;
 
 use crate::{
-    clear_mot::ClearMot, config::EvalConfig, gt::GroundTruth, hota::Hota, idf1::Identity,
+    clear_mot::ClearMot,
+    config::EvalConfig,
+    gt::{GroundTruth, GtFiltering},
+    hota::Hota,
+    idf1::Identity,
     prepare::Excused,
 };
 
@@ -44,6 +48,8 @@ pub struct GtCounts {
     pub ignore_near: usize,
     /// DontCare image regions.
     pub ignore_regions: usize,
+    /// What the reader dropped.
+    pub dropped: GtFiltering,
 }
 
 impl GtCounts {
@@ -64,6 +70,7 @@ impl GtCounts {
             dont_care: sum(&|f| f.dont_care.len()),
             ignore_near: sum(&|f| f.ignore_near.len()),
             ignore_regions: sum(&|f| f.ignore_regions.len()),
+            dropped: gt.filtering,
         }
     }
 }

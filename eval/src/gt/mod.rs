@@ -1,7 +1,11 @@
 //! Ground truth as the scoring sees it, whatever it was read from: per frame the objects that
 //! count, and what excuses a hypothesis from being a false positive.
 
+mod candidates;
+pub mod kitti;
+pub mod oriented_box;
 pub mod sim;
+pub mod tracklets;
 
 use crate::view::{ImageBox, View};
 
@@ -43,6 +47,19 @@ pub struct GroundTruth {
     /// The labelled region: hypotheses outside it are not scored. `None` when everything is
     /// labelled (simulated drives).
     pub view: Option<View>,
+    /// What the reader left out of `frames`.
+    pub filtering: GtFiltering,
+}
+
+/// Labelled objects that a reader dropped (KITTI: they become ignore-near boxes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct GtFiltering {
+    /// Boxes of counted classes outside the labelled view (camera image, BEV range).
+    pub outside_view: usize,
+    /// Boxes of counted classes in view with too few LiDAR points inside.
+    pub too_few_points: usize,
+    /// Whether LiDAR points were counted (false when the scans were not available).
+    pub points_checked: bool,
 }
 
 impl GroundTruth {

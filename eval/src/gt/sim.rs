@@ -9,7 +9,7 @@ use std::{collections::HashMap, path::Path};
 use crate::{
     csv::{Table, read_text},
     error::EvalError,
-    gt::{GroundTruth, GtFrame, GtObject},
+    gt::{GroundTruth, GtFiltering, GtFrame, GtObject},
 };
 
 /// One object in one frame of a simulated drive.
@@ -124,7 +124,15 @@ pub fn sim_ground_truth(rows: &[SimGtRow], rules: &SimRules) -> GroundTruth {
             frame.objects.push(object);
         }
     }
-    GroundTruth { frames, view: None }
+    GroundTruth {
+        frames,
+        view: None,
+        // Don't-care objects stay in the frames; the npoints column is the point count.
+        filtering: GtFiltering {
+            points_checked: true,
+            ..GtFiltering::default()
+        },
+    }
 }
 
 #[cfg(test)]
