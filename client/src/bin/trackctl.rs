@@ -1,5 +1,0 @@
-//! `trackctl`: the command-line client of a trackd service.
-
-fn main() -> anyhow::Result<()> {
-    anyhow::bail!("trackctl: not built yet")
-}
