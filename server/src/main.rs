@@ -36,6 +36,8 @@ enum Command {
     Vfh(cmd::vfh::Args),
     /// Show or check the configuration.
     Config(cmd::config::Args),
+    /// Probe a service's /healthz (or a TCP port): exit 0 when healthy (container HEALTHCHECK).
+    Health(cmd::health::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -58,5 +60,6 @@ fn main() -> anyhow::Result<()> {
         Command::Cluster(a) => cmd::cluster::run(a),
         Command::Vfh(a) => cmd::vfh::run(a),
         Command::Config(a) => cmd::config::run(a),
+        Command::Health(a) => cmd::health::run(a),
     }
 }

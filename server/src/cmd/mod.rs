@@ -5,6 +5,7 @@ pub mod cluster;
 pub mod config;
 pub mod demo;
 pub mod eval;
+pub mod health;
 pub mod info;
 pub mod router;
 pub mod run;
