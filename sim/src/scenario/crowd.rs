@@ -27,7 +27,7 @@ const FOUNTAIN_R: f64 = 3.0;
 const WEST: f64 = -70.0;
 const ZEBRA_X: f64 = 0.0;
 /// Where the first vehicle starts along the street.
-const START_S: f64 = 10.0;
+const START_S: f64 = 30.0;
 
 /// Builds the scenario with `vehicles` vehicles.
 pub fn build(b: &mut WorldBuilder, vehicles: usize) -> Result<(), SimError> {
