@@ -19,8 +19,6 @@ pub(crate) type CellCoord = [i32; 3];
 /// Points bucketed into cubic cells (see the module docs).
 #[derive(Debug, Default)]
 pub(crate) struct CellGrid {
-    /// Edge of a cell in metres (at least the requested one).
-    side: f64,
     /// Number of columns along x and y.
     nx: usize,
     ny: usize,
@@ -48,30 +46,29 @@ impl CellGrid {
     /// `min_side` (metres, > 0). The edge grows only when the cloud is too wide for the dense
     /// column table. Returns the edge used.
     pub(crate) fn build(&mut self, points: &[Point], min_side: f64) -> f64 {
-        let (lo, hi) = bounds(points);
-        let extent = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+        let (lowest, hi) = bounds(points);
+        let extent = [0, 1, 2].map(|axis| hi[axis] - lowest[axis]);
         let mut side = min_side
             .max(extent[0].max(extent[1]).max(extent[2]) / MAX_CELLS_PER_AXIS)
             .max(((extent[0] + min_side) * (extent[1] + min_side) / MAX_COLUMNS as f64).sqrt());
         if !side.is_finite() || side <= 0.0 {
             side = 1.0;
         }
-        let mut nx = (extent[0] / side).floor() as usize + 1;
-        let mut ny = (extent[1] / side).floor() as usize + 1;
-        while nx * ny > MAX_COLUMNS {
+        // Cells are aligned to multiples of the edge, so a cell's place does not depend on
+        // where the cloud happens to start.
+        let (lo, nx, ny) = loop {
+            let lo = lowest.map(|v| (v / side).floor() * side);
+            let nx = ((hi[0] - lo[0]) * (1.0 / side)) as usize + 1;
+            let ny = ((hi[1] - lo[1]) * (1.0 / side)) as usize + 1;
+            if nx * ny <= MAX_COLUMNS {
+                break (lo, nx, ny);
+            }
             side *= 1.25;
-            nx = (extent[0] / side).floor() as usize + 1;
-            ny = (extent[1] / side).floor() as usize + 1;
-        }
-        if points.iter().all(|p| !finite_xyz(p)) {
-            nx = 1;
-            ny = 1;
-        }
-        self.side = side;
+        };
+        let inv = 1.0 / side;
         self.nx = nx;
         self.ny = ny;
         let columns = nx * ny;
-        let inv = 1.0 / side;
 
         // Column and z-cell of each point, and the size of each column.
         self.point_column.clear();
@@ -304,7 +301,8 @@ mod tests {
                 seen[i] = true;
                 assert_eq!(grid.xyz()[k], points[i].xyz());
                 for axis in 0..3 {
-                    let expected = ((points[i].xyz()[axis] as f64 - lo[axis]) / 0.5).floor();
+                    let v = points[i].xyz()[axis] as f64;
+                    let expected = (v / 0.5).floor() - (lo[axis] / 0.5).floor();
                     assert_eq!(expected as i32, coord[axis]);
                 }
             }

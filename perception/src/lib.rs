@@ -8,17 +8,22 @@
 
 pub mod cluster;
 pub mod config;
+pub mod filter;
 pub mod fleet;
 pub mod frame;
 pub mod geo;
+pub mod ground;
 mod grid;
 pub mod occupancy;
 pub mod oxts;
+mod pca;
 pub mod pipeline;
 pub mod point;
 pub mod pose;
 pub mod superframe;
 pub mod track;
+pub mod transform;
+pub mod vfh;
 pub mod wire;
 
 pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};

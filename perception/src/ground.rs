@@ -1,0 +1,665 @@
+//! Stage 3: ground removal with RANSAC planes, in the sensor frame.
+//!
+//! A road is not one plane over 50 m (grades change, kerbs, crowns), so, as the concentric
+//! zone model of Patchwork (Lim et al. 2021) does, the ground around the sensor is cut into
+//! rings of horizontal range and azimuth sectors, and each zone gets its own plane:
+//!
+//! 1. a *near plane* is fitted by RANSAC to the points 3-15 m away (normal within
+//!    `max_tilt_deg` of the sensor's z axis): the prior of the innermost ring;
+//! 2. zone by zone, outwards, RANSAC fits a plane to the zone's points near its prior (the
+//!    plane of the zone just inside it, along the same azimuth); the fit is refined by least
+//!    squares (PCA) on its inliers and kept only if it is upright relative to the prior
+//!    (`max_bend_deg`), does not step up or down more than `max_step` and has
+//!    `min_zone_points` inliers; otherwise the zone inherits its prior;
+//! 3. a point is ground when it lies at most `distance_threshold + threshold_growth · range`
+//!    above its zone's plane (everything below it is ground too: reflections, kerb drops).
+//!
+//! RANSAC stops early once `confidence` is reached for the best inlier ratio seen; every zone
+//! draws from its own generator seeded from `seed`, so a scan always gives the same result.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{
+    Point,
+    pca::{Moments, cross, dot, normalized, smallest_eigenvector},
+};
+
+/// One ring of the zone model.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZoneRing {
+    /// Outer edge of the ring, horizontal range in metres (the last ring reaches infinity).
+    pub outer: f32,
+    /// Azimuth sectors the ring is cut into (at least 1).
+    pub sectors: usize,
+}
+
+/// Ground removal parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GroundConfig {
+    /// RANSAC inlier distance and the height above its zone plane up to which a point is
+    /// ground, near the sensor (metres). Default 0.2: kerbs and road noise stay ground, car
+    /// sills and bumpers (≥ 0.25 m) do not.
+    pub distance_threshold: f32,
+    /// Extra ground tolerance per metre of horizontal range. Default 0.002 (+0.1 m at 50 m,
+    /// where the beam footprint and a plane's extrapolation error grow).
+    pub threshold_growth: f32,
+    /// Most RANSAC iterations per plane. Default 100.
+    pub max_iterations: usize,
+    /// Stop RANSAC once a better plane would have been found with this probability.
+    /// Default 0.999.
+    pub confidence: f64,
+    /// Most candidate points a RANSAC hypothesis is scored on (a deterministic subsample);
+    /// the least-squares refit uses all of them. Default 256.
+    pub sample_size: usize,
+    /// Seed of the RANSAC samples. Default 0x5eed.
+    pub seed: u64,
+    /// Largest angle between the near plane's normal and the sensor's z axis (degrees).
+    /// Default 20 (the sensor rolls and pitches with the car, roads climb).
+    pub max_tilt_deg: f64,
+    /// Largest angle between a zone's plane and its prior (degrees). Default 10.
+    pub max_bend_deg: f64,
+    /// Largest height difference between a zone's plane and its prior at the zone's inliers
+    /// (metres). Default 0.3.
+    pub max_step: f32,
+    /// Candidates of a zone's fit lie at most this far above its prior (metres). Default 0.5.
+    pub band_above: f32,
+    /// Candidates of a zone's fit lie at most this far below its prior (metres). Default 1.0.
+    pub band_below: f32,
+    /// Fewest inliers for a zone to get its own plane. Default 12.
+    pub min_zone_points: usize,
+    /// Horizontal range band of the points the near plane is fitted to (metres).
+    /// Default [3, 15].
+    pub near_band: [f32; 2],
+    /// Height of the sensor above the road (metres): the ground plane assumed when the near
+    /// range holds no plane at all. Default 1.73 (KITTI).
+    pub sensor_height: f32,
+    /// The zone rings, inner to outer. Default: edges at 6, 12, 20, 30, 42 m, then to
+    /// infinity, with 8, 16, 24, 32, 32, 32 sectors.
+    pub rings: Vec<ZoneRing>,
+}
+
+impl Default for GroundConfig {
+    fn default() -> Self {
+        let ring = |outer, sectors| ZoneRing { outer, sectors };
+        Self {
+            distance_threshold: 0.2,
+            threshold_growth: 0.002,
+            max_iterations: 100,
+            confidence: 0.999,
+            sample_size: 256,
+            seed: 0x5eed,
+            max_tilt_deg: 20.0,
+            max_bend_deg: 10.0,
+            max_step: 0.3,
+            band_above: 0.5,
+            band_below: 1.0,
+            min_zone_points: 12,
+            near_band: [3.0, 15.0],
+            sensor_height: 1.73,
+            rings: vec![
+                ring(6.0, 8),
+                ring(12.0, 16),
+                ring(20.0, 24),
+                ring(30.0, 32),
+                ring(42.0, 32),
+                ring(f32::INFINITY, 32),
+            ],
+        }
+    }
+}
+
+/// A plane `normal · p + offset = 0`, with a unit normal pointing up (positive z).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plane {
+    /// Unit normal, z component > 0.
+    pub normal: [f64; 3],
+    /// `-normal · q` for any point `q` on the plane: the height of the origin above it.
+    pub offset: f64,
+}
+
+impl Plane {
+    /// Signed height of `p` above the plane (metres, along the normal).
+    pub fn height(&self, p: [f64; 3]) -> f64 {
+        dot(self.normal, p) + self.offset
+    }
+
+    /// The plane's z above (x, y).
+    pub fn z_at(&self, xy: [f64; 2]) -> f64 {
+        -(self.normal[0] * xy[0] + self.normal[1] * xy[1] + self.offset) / self.normal[2]
+    }
+
+    /// The plane through `point` with `normal` (made unit and turned up), if the normal is
+    /// not zero or horizontal.
+    pub fn through(point: [f64; 3], normal: [f64; 3]) -> Option<Self> {
+        let mut normal = normalized(normal)?;
+        if normal[2] == 0.0 {
+            return None;
+        }
+        if normal[2] < 0.0 {
+            normal = normal.map(|c| -c);
+        }
+        Some(Self {
+            normal,
+            offset: -dot(normal, point),
+        })
+    }
+}
+
+/// The ground removal stage with its reusable buffers.
+#[derive(Debug)]
+pub struct GroundRemoval {
+    config: GroundConfig,
+    /// The rings (at least one, each with at least one sector) and each one's first zone.
+    rings: Vec<ZoneRing>,
+    first_zone: Vec<usize>,
+    /// Per input point: its zone and horizontal range.
+    zone_of: Vec<u32>,
+    range_of: Vec<f32>,
+    /// Points of zone `z`: `by_zone[zone_start[z]..zone_start[z + 1]]`.
+    zone_start: Vec<u32>,
+    by_zone: Vec<u32>,
+    /// Per zone: its plane after the fit.
+    zone_plane: Vec<Plane>,
+    /// Scratch: candidate points of one fit, and the subsample hypotheses are scored on.
+    candidates: Vec<[f64; 3]>,
+    sample: Vec<[f64; 3]>,
+    /// Scratch: counting-sort cursors and ground flags.
+    cursor: Vec<u32>,
+    ground: Vec<bool>,
+}
+
+impl Default for GroundRemoval {
+    fn default() -> Self {
+        Self::new(GroundConfig::default())
+    }
+}
+
+/// Where a zone's plane must meet its prior within `max_step`.
+#[derive(Clone, Copy)]
+enum StepCheck {
+    /// Nowhere (the near plane has no prior but the sensor's axis).
+    None,
+    /// At the (x, y) of the centroid of the zone's inliers (the first ring, inside the near
+    /// plane's own band).
+    AtInliers,
+    /// At this (x, y): the middle of the zone's inner edge, where the ground must be
+    /// continuous with the ring inside.
+    At([f64; 2]),
+}
+
+impl GroundRemoval {
+    /// A ground removal stage with `config`.
+    pub fn new(config: GroundConfig) -> Self {
+        let mut rings: Vec<ZoneRing> = config
+            .rings
+            .iter()
+            .map(|r| ZoneRing {
+                outer: r.outer,
+                sectors: r.sectors.max(1),
+            })
+            .collect();
+        if rings.is_empty() {
+            rings.push(ZoneRing {
+                outer: f32::INFINITY,
+                sectors: 1,
+            });
+        }
+        let first_zone = rings
+            .iter()
+            .scan(0, |next, ring| {
+                let first = *next;
+                *next += ring.sectors;
+                Some(first)
+            })
+            .collect();
+        Self {
+            config,
+            rings,
+            first_zone,
+            zone_of: Vec::new(),
+            range_of: Vec::new(),
+            zone_start: Vec::new(),
+            by_zone: Vec::new(),
+            zone_plane: Vec::new(),
+            candidates: Vec::new(),
+            sample: Vec::new(),
+            cursor: Vec::new(),
+            ground: Vec::new(),
+        }
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &GroundConfig {
+        &self.config
+    }
+
+    /// The plane of every zone in the last run, ring after ring, sector after sector
+    /// (sector 0 starts at azimuth -π).
+    pub fn zone_planes(&self) -> &[Plane] {
+        &self.zone_plane
+    }
+
+    /// Writes the points of `points` that are not ground into `out` (cleared first), in input
+    /// order, and returns the near plane.
+    pub fn remove(&mut self, points: &[Point], out: &mut Vec<Point>) -> Plane {
+        let mut ground = std::mem::take(&mut self.ground);
+        let plane = self.segment(points, &mut ground);
+        out.clear();
+        out.extend(
+            points
+                .iter()
+                .zip(&ground)
+                .filter(|&(_, &g)| !g)
+                .map(|(p, _)| *p),
+        );
+        self.ground = ground;
+        plane
+    }
+
+    /// Marks each point of `points` as ground or not in `is_ground` (overwritten) and returns
+    /// the near plane. Non-finite points are marked ground (they are no obstacle).
+    pub fn segment(&mut self, points: &[Point], is_ground: &mut Vec<bool>) -> Plane {
+        self.assign_zones(points);
+        let near = self.fit_near_plane(points);
+        self.fit_zones(points, near);
+
+        let config = &self.config;
+        is_ground.clear();
+        is_ground.extend(points.iter().enumerate().map(|(i, p)| {
+            if self.zone_of[i] == u32::MAX {
+                return true;
+            }
+            let plane = &self.zone_plane[self.zone_of[i] as usize];
+            let limit = config.distance_threshold + config.threshold_growth * self.range_of[i];
+            plane.height(widen(p)) <= limit as f64
+        }));
+        near
+    }
+
+    /// Computes each point's zone and buckets the points by zone (counting sort).
+    fn assign_zones(&mut self, points: &[Point]) {
+        let rings = &self.rings;
+        let zones: usize = rings.iter().map(|r| r.sectors).sum();
+        self.zone_of.clear();
+        self.range_of.clear();
+        self.zone_start.clear();
+        self.zone_start.resize(zones + 1, 0);
+        for p in points {
+            if !p.is_finite() {
+                self.zone_of.push(u32::MAX);
+                self.range_of.push(0.0);
+                continue;
+            }
+            let range = (p.x * p.x + p.y * p.y).sqrt();
+            let ring = rings[..rings.len() - 1]
+                .iter()
+                .position(|r| range < r.outer)
+                .unwrap_or(rings.len() - 1);
+            let sector = sector_of(p.y, p.x, rings[ring].sectors);
+            let zone = self.first_zone[ring] + sector;
+            self.zone_of.push(zone as u32);
+            self.range_of.push(range);
+            self.zone_start[zone + 1] += 1;
+        }
+        for z in 0..zones {
+            self.zone_start[z + 1] += self.zone_start[z];
+        }
+        self.by_zone.clear();
+        self.by_zone.resize(self.zone_start[zones] as usize, 0);
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.zone_start[..zones]);
+        for (i, &zone) in self.zone_of.iter().enumerate() {
+            if zone != u32::MAX {
+                let slot = &mut self.cursor[zone as usize];
+                self.by_zone[*slot as usize] = i as u32;
+                *slot += 1;
+            }
+        }
+    }
+
+    /// RANSAC on the points of the near band: the prior of the first ring.
+    fn fit_near_plane(&mut self, points: &[Point]) -> Plane {
+        let [lo, hi] = self.config.near_band;
+        self.candidates.clear();
+        self.candidates.extend(
+            points
+                .iter()
+                .zip(&self.range_of)
+                .filter(|&(p, &r)| p.is_finite() && r >= lo && r <= hi)
+                .map(|(p, _)| widen(p)),
+        );
+        let up = Plane {
+            normal: [0.0, 0.0, 1.0],
+            offset: self.config.sensor_height as f64,
+        };
+        let fit = self.fit(&up, self.config.max_tilt_deg, StepCheck::None, u64::MAX);
+        fit.unwrap_or(up)
+    }
+
+    /// Fits every zone, ring by ring outwards, each from the plane of the zone inside it.
+    fn fit_zones(&mut self, points: &[Point], near: Plane) {
+        self.zone_plane.clear();
+        let (band_above, band_below) =
+            (self.config.band_above as f64, self.config.band_below as f64);
+        for r in 0..self.rings.len() {
+            let ring = self.rings[r];
+            for sector in 0..ring.sectors {
+                let zone = self.first_zone[r] + sector;
+                let (prior, check) = if r == 0 {
+                    (near, StepCheck::AtInliers)
+                } else {
+                    // The inner zone at this sector's middle azimuth, met at the inner edge.
+                    let inner = self.rings[r - 1];
+                    let middle = ((2 * sector + 1) * inner.sectors / (2 * ring.sectors))
+                        .min(inner.sectors - 1);
+                    let azimuth = -std::f64::consts::PI
+                        + (sector as f64 + 0.5) * std::f64::consts::TAU / ring.sectors as f64;
+                    let edge = inner.outer as f64;
+                    (
+                        self.zone_plane[self.first_zone[r - 1] + middle],
+                        StepCheck::At([edge * azimuth.cos(), edge * azimuth.sin()]),
+                    )
+                };
+                self.candidates.clear();
+                let members = self.zone_start[zone] as usize..self.zone_start[zone + 1] as usize;
+                for &i in &self.by_zone[members] {
+                    let p = widen(&points[i as usize]);
+                    let h = prior.height(p);
+                    if h <= band_above && h >= -band_below {
+                        self.candidates.push(p);
+                    }
+                }
+                let plane = self
+                    .fit(&prior, self.config.max_bend_deg, check, zone as u64)
+                    .unwrap_or(prior);
+                self.zone_plane.push(plane);
+            }
+        }
+    }
+
+    /// RANSAC + least-squares refit on `self.candidates`: a plane within `max_angle_deg` of
+    /// `prior`'s normal, meeting `prior` within `max_step` where `check` says, with at least
+    /// `min_zone_points` inliers. `stream` picks the random stream.
+    fn fit(
+        &mut self,
+        prior: &Plane,
+        max_angle_deg: f64,
+        check: StepCheck,
+        stream: u64,
+    ) -> Option<Plane> {
+        let config = &self.config;
+        let min_inliers = config.min_zone_points.max(3);
+        if self.candidates.len() < min_inliers {
+            return None;
+        }
+        let threshold = config.distance_threshold as f64;
+        let min_cos = max_angle_deg.to_radians().cos();
+        // Score hypotheses on an evenly strided subsample.
+        let stride = self.candidates.len().div_ceil(config.sample_size.max(3));
+        self.sample.clear();
+        self.sample
+            .extend(self.candidates.iter().step_by(stride).copied());
+        let n = self.sample.len();
+        let mut rng = SplitMix64::new(config.seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let mut best: Option<(Plane, usize)> = None;
+        let mut needed = config.max_iterations;
+        let mut iteration = 0;
+        while iteration < needed.min(config.max_iterations) {
+            iteration += 1;
+            let (a, b, c) = rng.three_distinct(n);
+            let (pa, pb, pc) = (self.sample[a], self.sample[b], self.sample[c]);
+            let normal = cross(sub(pb, pa), sub(pc, pa));
+            let Some(plane) = Plane::through(pa, normal) else {
+                continue;
+            };
+            if dot(plane.normal, prior.normal) < min_cos {
+                continue;
+            }
+            let inliers = self
+                .sample
+                .iter()
+                .filter(|&&p| plane.height(p).abs() <= threshold)
+                .count();
+            if best.is_none_or(|(_, count)| inliers > count) {
+                best = Some((plane, inliers));
+                let ratio = inliers as f64 / n as f64;
+                needed = iterations_needed(ratio, config.confidence, config.max_iterations);
+            }
+        }
+        let (hypothesis, _) = best?;
+
+        // Least-squares (orthogonal) refit on all candidates within the threshold.
+        let mut moments = Moments::default();
+        for &p in &self.candidates {
+            if hypothesis.height(p).abs() <= threshold {
+                moments.add(p);
+            }
+        }
+        if moments.count() < min_inliers {
+            return None;
+        }
+        let (_, normal) = smallest_eigenvector(moments.covariance());
+        let mean = moments.mean();
+        let refit = Plane::through(mean, normal)
+            .filter(|p| dot(p.normal, prior.normal) >= min_cos)
+            .unwrap_or(hypothesis);
+        let anchor = match check {
+            StepCheck::None => return Some(refit),
+            StepCheck::AtInliers => [mean[0], mean[1]],
+            StepCheck::At(xy) => xy,
+        };
+        let step = refit.z_at(anchor) - prior.z_at(anchor);
+        (step.abs() <= config.max_step as f64).then_some(refit)
+    }
+}
+
+/// RANSAC iterations needed to draw an all-inlier triple with probability `confidence` when
+/// a fraction `ratio` of the points are inliers.
+fn iterations_needed(ratio: f64, confidence: f64, max: usize) -> usize {
+    let all_inliers = ratio.powi(3);
+    if all_inliers >= 1.0 {
+        return 1;
+    }
+    if all_inliers <= 0.0 {
+        return max;
+    }
+    let n = (1.0 - confidence.clamp(0.0, 1.0 - 1e-12)).ln() / (1.0 - all_inliers).ln();
+    if n.is_finite() {
+        (n.ceil() as usize).clamp(1, max)
+    } else {
+        max
+    }
+}
+
+/// The azimuth sector of (x, y) among `sectors` equal sectors, sector 0 starting at -π.
+fn sector_of(y: f32, x: f32, sectors: usize) -> usize {
+    let angle = fast_atan2(y, x) as f64;
+    let s = ((angle + std::f64::consts::PI) / std::f64::consts::TAU * sectors as f64) as usize;
+    s.min(sectors - 1)
+}
+
+/// atan2 to within 1e-5 rad (a polynomial; libm's atan2 costs more than the rest of the
+/// per-point work together).
+fn fast_atan2(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 && ay == 0.0 {
+        return 0.0;
+    }
+    let (t, swapped) = if ay > ax {
+        (ax / ay, true)
+    } else {
+        (ay / ax, false)
+    };
+    let t2 = t * t;
+    // A least-squares odd polynomial for atan on [0, 1] (error below 7e-6 rad).
+    let mut a = t
+        * (0.999_968
+            + t2 * (-0.332_549_57
+                + t2 * (0.193_520_28
+                    + t2 * (-0.117_020_03 + t2 * (0.053_742_84 - t2 * 0.012_269_506)))));
+    if swapped {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
+/// `a - b`.
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// A point's position in `f64`.
+fn widen(p: &Point) -> [f64; 3] {
+    [p.x as f64, p.y as f64, p.z as f64]
+}
+
+/// SplitMix64 (Steele et al. 2014): a tiny, fast, fully determined random stream.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// An index below `n` (n > 0).
+    fn below(&mut self, n: usize) -> usize {
+        (((self.next() >> 32) * n as u64) >> 32) as usize
+    }
+
+    /// Three distinct indices below `n` (n >= 3).
+    fn three_distinct(&mut self, n: usize) -> (usize, usize, usize) {
+        let a = self.below(n);
+        let mut b = self.below(n - 1);
+        if b >= a {
+            b += 1;
+        }
+        let (lo, hi) = (a.min(b), a.max(b));
+        let mut c = self.below(n - 2);
+        if c >= lo {
+            c += 1;
+        }
+        if c >= hi {
+            c += 1;
+        }
+        (a, b, c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ring-like scan of a ground `z = f(x, y)` plus a box-shaped obstacle from 0.3 m to
+    /// 1.5 m above the ground at (12, 4), as (points, is ground).
+    fn scene(ground: impl Fn(f32, f32) -> f32) -> (Vec<Point>, Vec<bool>) {
+        let mut points = Vec::new();
+        let mut truth = Vec::new();
+        for ring in 0..60 {
+            let r = 3.0 + ring as f32 * ring as f32 * 0.013 + ring as f32 * 0.2;
+            for step in 0..720 {
+                let a = step as f32 * std::f32::consts::TAU / 720.0;
+                let (x, y) = (r * a.cos(), r * a.sin());
+                // A little deterministic noise, ±2 cm.
+                let noise = ((step * 7 + ring * 13) % 9) as f32 * 0.005 - 0.02;
+                points.push(Point::new(x, y, ground(x, y) + noise, 0.0));
+                truth.push(true);
+            }
+        }
+        for i in 0..30 {
+            for j in 0..25 {
+                let (x, y) = (11.0 + i as f32 * 0.07, 3.0 + (j % 5) as f32 * 0.4);
+                let z = ground(x, y) + 0.3 + (j / 5) as f32 * 0.3;
+                points.push(Point::new(x, y, z, 0.0));
+                truth.push(false);
+            }
+        }
+        (points, truth)
+    }
+
+    fn check(points: &[Point], truth: &[bool]) {
+        let mut removal = GroundRemoval::default();
+        let mut ground = Vec::new();
+        removal.segment(points, &mut ground);
+        let wrong: Vec<usize> = (0..points.len())
+            .filter(|&i| ground[i] != truth[i])
+            .collect();
+        assert!(
+            wrong.is_empty(),
+            "{} misclassified, e.g. {:?}",
+            wrong.len(),
+            &points[wrong[0]]
+        );
+        // Deterministic: the same scan gives the same answer.
+        let mut again = Vec::new();
+        removal.segment(points, &mut again);
+        assert_eq!(ground, again);
+    }
+
+    #[test]
+    fn flat_ground_goes_and_the_obstacle_stays() {
+        let (points, truth) = scene(|_, _| -1.73);
+        check(&points, &truth);
+    }
+
+    #[test]
+    fn a_tilted_road_with_a_grade_change_is_followed_zone_by_zone() {
+        // 3 % up along x, rolled 2 % along y, and 6 % more beyond x = 20 m.
+        let (points, truth) =
+            scene(|x, y| -1.73 + 0.03 * x + 0.02 * y + 0.06 * (x - 20.0).max(0.0));
+        check(&points, &truth);
+    }
+
+    #[test]
+    fn remove_keeps_the_other_points_in_order() {
+        let (points, truth) = scene(|_, _| -1.73);
+        let mut out = Vec::new();
+        let near = GroundRemoval::default().remove(&points, &mut out);
+        let expected: Vec<Point> = points
+            .iter()
+            .zip(&truth)
+            .filter(|(_, g)| !**g)
+            .map(|(p, _)| *p)
+            .collect();
+        assert_eq!(out, expected);
+        assert!((near.normal[2] - 1.0).abs() < 1e-3 && (near.offset - 1.73).abs() < 0.02);
+    }
+
+    #[test]
+    fn fast_atan2_is_close_to_libm() {
+        for i in 0..10_000 {
+            let a = (i as f32 / 10_000.0 - 0.5) * std::f32::consts::TAU;
+            for r in [0.1f32, 7.0, 80.0] {
+                let (y, x) = (r * a.sin(), r * a.cos());
+                assert!((fast_atan2(y, x) - y.atan2(x)).abs() < 2e-5, "{x} {y}");
+            }
+        }
+        assert_eq!(fast_atan2(0.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn ransac_iterations_follow_the_inlier_ratio() {
+        assert_eq!(iterations_needed(1.0, 0.99, 100), 1);
+        assert_eq!(iterations_needed(0.0, 0.99, 100), 100);
+        // 0.5³ = 1/8: ln(0.01) / ln(7/8) = 34.5.
+        assert_eq!(iterations_needed(0.5, 0.99, 100), 35);
+        let mut rng = SplitMix64::new(1);
+        for _ in 0..1000 {
+            let (a, b, c) = rng.three_distinct(3);
+            assert!(a != b && b != c && a != c && a < 3 && b < 3 && c < 3);
+        }
+    }
+}

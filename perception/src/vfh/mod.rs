@@ -1,0 +1,251 @@
+//! Stage 6: a Viewpoint Feature Histogram (Rusu et al. 2010) per cluster, bin for bin as
+//! PCL's `VFHEstimation` computes its `VFHSignature308`, and the comparisons tracking needs.
+//!
+//! Normals are PCA normals over the `normal_k` nearest neighbours inside the cluster, turned
+//! towards the sensor ([`estimate_normals`]); the histogram itself is
+//! [`vfh_signature`]. Layout of the 308 bins: f1 `0..45`, f2 `45..90`, f3 `90..135`,
+//! distance `135..180` (always zero), viewpoint `180..308`; the f blocks each sum to 100
+//! (less when PCL skips a pair), the viewpoint block sums to 100.
+
+mod compare;
+mod normals;
+mod signature;
+
+use serde::{Deserialize, Serialize};
+
+pub use compare::{chi_squared, max_deviation};
+pub use normals::estimate_normals;
+pub use signature::vfh_signature;
+
+use crate::{Point, cluster::Clustering};
+
+/// Number of bins of a VFH.
+pub const BINS: usize = 308;
+
+/// A `VFHSignature308`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vfh {
+    /// The bins, laid out as PCL lays them out (see the module docs).
+    pub bins: [f32; BINS],
+}
+
+/// VFH parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct VfhConfig {
+    /// Neighbours (the point itself included) of each point's PCA normal. Default 10.
+    pub normal_k: usize,
+    /// Clusters with fewer points get no VFH. Default 10.
+    pub min_points: usize,
+}
+
+impl Default for VfhConfig {
+    fn default() -> Self {
+        Self {
+            normal_k: 10,
+            min_points: 10,
+        }
+    }
+}
+
+/// The VFH of one cluster.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClusterVfh {
+    /// The cluster's number in its [`Clustering`].
+    pub cluster: usize,
+    /// Points in the cluster.
+    pub points: usize,
+    /// Its histogram.
+    pub vfh: Vfh,
+}
+
+/// The VFH stage with its reusable buffers.
+#[derive(Debug, Default)]
+pub struct VfhEstimator {
+    config: VfhConfig,
+    xyz: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+}
+
+impl VfhEstimator {
+    /// An estimator with `config`.
+    pub fn new(config: VfhConfig) -> Self {
+        Self {
+            config,
+            ..Default::default()
+        }
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &VfhConfig {
+        &self.config
+    }
+
+    /// The VFH of one cluster seen from `viewpoint` (the sensor position, in the points'
+    /// frame), or `None` when it has fewer than `min_points` (or 2) points.
+    pub fn compute(&mut self, points: &[Point], viewpoint: [f64; 3]) -> Option<Vfh> {
+        self.xyz.clear();
+        self.xyz.extend(points.iter().map(Point::xyz));
+        self.compute_loaded(viewpoint)
+    }
+
+    /// The normals of the cluster of the last [`compute`](Self::compute), in its point order.
+    pub fn normals(&self) -> &[[f32; 3]] {
+        &self.normals
+    }
+
+    /// The VFH of every cluster of `clustering` (over `points`) with at least `min_points`
+    /// points, into `out` (cleared first), in cluster order.
+    pub fn compute_clusters(
+        &mut self,
+        points: &[Point],
+        clustering: &Clustering,
+        viewpoint: [f64; 3],
+        out: &mut Vec<ClusterVfh>,
+    ) {
+        out.clear();
+        for (cluster, members) in clustering.clusters().enumerate() {
+            if members.len() < self.config.min_points.max(2) {
+                continue;
+            }
+            self.xyz.clear();
+            self.xyz
+                .extend(members.iter().map(|&i| points[i as usize].xyz()));
+            if let Some(vfh) = self.compute_loaded(viewpoint) {
+                out.push(ClusterVfh {
+                    cluster,
+                    points: members.len(),
+                    vfh,
+                });
+            }
+        }
+    }
+
+    /// The VFH of the points in `self.xyz`.
+    fn compute_loaded(&mut self, viewpoint: [f64; 3]) -> Option<Vfh> {
+        if self.xyz.len() < self.config.min_points.max(2) {
+            return None;
+        }
+        let viewpoint = viewpoint.map(|c| c as f32);
+        estimate_normals(
+            &self.xyz,
+            self.config.normal_k,
+            viewpoint,
+            &mut self.normals,
+        );
+        Some(vfh_signature(&self.xyz, &self.normals, viewpoint))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cluster::{ClusterConfig, dbscan};
+
+    /// Points on a sphere of radius 0.5 around `center`.
+    fn ball(center: [f32; 3]) -> Vec<Point> {
+        let mut points = Vec::new();
+        for i in 0..12 {
+            for j in 0..24 {
+                let (theta, phi) = (
+                    0.2 + i as f32 * 0.23,
+                    j as f32 * std::f32::consts::TAU / 24.0,
+                );
+                points.push(Point::new(
+                    center[0] + 0.5 * theta.sin() * phi.cos(),
+                    center[1] + 0.5 * theta.sin() * phi.sin(),
+                    center[2] + 0.5 * theta.cos(),
+                    0.0,
+                ));
+            }
+        }
+        points
+    }
+
+    fn block_sum(h: &Vfh, range: std::ops::Range<usize>) -> f32 {
+        h.bins[range].iter().sum()
+    }
+
+    #[test]
+    fn block_sums_follow_pcl() {
+        let points = ball([10.0, 2.0, 0.0]);
+        let h = VfhEstimator::default().compute(&points, [0.0; 3]).unwrap();
+        let n = points.len() as f32;
+        for block in 0..3 {
+            let sum = block_sum(&h, block * 45..block * 45 + 45);
+            // Every pair counts 100 / (n - 1) unless PCL rejects it.
+            assert!(
+                sum <= 100.0 * n / (n - 1.0) + 1e-2 && sum > 95.0,
+                "block {block}: {sum}"
+            );
+        }
+        assert_eq!(block_sum(&h, 135..180), 0.0);
+        assert!((block_sum(&h, 180..308) - 100.0).abs() < 1e-2);
+    }
+
+    /// The visible side and top of a 4 x 1.8 x 1.5 m box 10 m ahead, jittered, moved by
+    /// `yaw` about z and then by `shift` (the viewpoint moves the same way from the origin).
+    fn car(yaw: f32, shift: [f32; 3]) -> (Vec<Point>, [f64; 3]) {
+        let mut points = Vec::new();
+        let mut state = 7u32;
+        let mut jitter = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32 * 0.02 - 0.01
+        };
+        let (c, s) = (yaw.cos(), yaw.sin());
+        let mut put = |x: f32, y: f32, z: f32| {
+            let (x, y, z) = (x + jitter(), y + jitter(), z + jitter());
+            points.push(Point::new(
+                c * x - s * y + shift[0],
+                s * x + c * y + shift[1],
+                z + shift[2],
+                0.0,
+            ));
+        };
+        for i in 0..40 {
+            for j in 0..12 {
+                put(8.0 + i as f32 * 0.1, 2.0, -1.5 + j as f32 * 0.125);
+            }
+        }
+        for i in 0..40 {
+            for j in 0..9 {
+                put(8.0 + i as f32 * 0.1, 2.1 + j as f32 * 0.2, 0.0);
+            }
+        }
+        (points, shift.map(f64::from))
+    }
+
+    #[test]
+    fn moving_cluster_and_viewpoint_together_changes_little() {
+        let mut estimator = VfhEstimator::default();
+        let (near, origin) = car(0.0, [0.0; 3]);
+        let a = estimator.compute(&near, origin).unwrap();
+        let (moved, viewpoint) = car(0.7, [60.0, -45.0, 3.0]);
+        let b = estimator.compute(&moved, viewpoint).unwrap();
+        assert!(chi_squared(&a, &b) < 0.01, "{}", chi_squared(&a, &b));
+        assert!(max_deviation(&a.cdf(), &b.cdf()) < 0.02);
+        // A ball is a different shape.
+        let c = estimator
+            .compute(&ball([10.0, 2.0, 0.0]), [0.0; 3])
+            .unwrap();
+        assert!(chi_squared(&a, &c) > 0.3, "{}", chi_squared(&a, &c));
+        assert!(max_deviation(&a.cdf(), &c.cdf()) > 0.1);
+    }
+
+    #[test]
+    fn clusters_below_min_points_get_none() {
+        let mut points = ball([10.0, 2.0, 0.0]);
+        points.extend((0..5).map(|i| Point::new(20.0 + i as f32 * 0.05, 0.0, 0.0, 0.0)));
+        let clustering = dbscan(&points, &ClusterConfig::default()).unwrap();
+        assert_eq!(clustering.len(), 2);
+        let mut out = Vec::new();
+        VfhEstimator::default().compute_clusters(&points, &clustering, [0.0; 3], &mut out);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].points, 288);
+        assert!(
+            VfhEstimator::default()
+                .compute(&points[..9], [0.0; 3])
+                .is_none()
+        );
+    }
+}
