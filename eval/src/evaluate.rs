@@ -26,3 +26,73 @@ pub fn evaluate(gt: &GroundTruth, tracks: &[TrackRow], config: &EvalConfig) -> M
         config: *config,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gt::{GtFrame, GtObject};
+
+    fn rider(id: u64, y: f64) -> GtObject {
+        GtObject {
+            id,
+            class: "Cyclist".to_string(),
+            centre: [15.0, y, -0.9],
+        }
+    }
+
+    fn track(frame: u32, id: u64, y: f64) -> TrackRow {
+        TrackRow {
+            frame,
+            track_id: id,
+            centre: [15.0, y, -0.9],
+            size: [1.8, 0.6, 1.7],
+            yaw: 0.0,
+            velocity: [0.0, 0.0],
+            confidence: 1.0,
+            class: "cyclist".to_string(),
+        }
+    }
+
+    /// Two riders side by side 1 m apart; from frame 5 on the tracks swap riders.
+    fn swapped_riders() -> (GroundTruth, Vec<TrackRow>) {
+        let frames = (0..10)
+            .map(|frame| GtFrame {
+                frame,
+                objects: vec![rider(1, 0.0), rider(2, 1.0)],
+                ..GtFrame::default()
+            })
+            .collect();
+        let gt = GroundTruth {
+            frames,
+            ..GroundTruth::default()
+        };
+        let tracks = (0..10)
+            .flat_map(|frame| {
+                let (a, b) = if frame < 5 { (0.05, 0.95) } else { (0.95, 0.05) };
+                [track(frame, 7, a), track(frame, 8, b)]
+            })
+            .collect();
+        (gt, tracks)
+    }
+
+    #[test]
+    fn a_swap_between_riders_1_m_apart_shows_only_at_the_cyclist_threshold() {
+        let (gt, tracks) = swapped_riders();
+        // At 2 m the swapped tracks are still within reach of their old riders: no switch, but
+        // the matched distance grows to 0.95 m.
+        let loose = evaluate(&gt, &tracks, &EvalConfig::default());
+        assert_eq!(loose.clear.switches, 0);
+        assert!((loose.clear.motp - 0.5).abs() < 1e-12);
+        // At 0.6 m for cyclists each rider switches track once.
+        let config = EvalConfig {
+            threshold: 2.0,
+            cyclist_threshold: Some(0.6),
+        };
+        let strict = evaluate(&gt, &tracks, &config);
+        assert_eq!(strict.clear.switches, 2);
+        assert_eq!((strict.clear.false_positives, strict.clear.misses), (0, 0));
+        assert!((strict.clear.mota - (1.0 - 2.0 / 20.0)).abs() < 1e-12);
+        assert!((strict.identity.idf1 - 0.5).abs() < 1e-12);
+        assert_eq!(strict.config, config);
+    }
+}

@@ -69,8 +69,8 @@ pub fn bev_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-/// The frames to score (every GT frame and every frame with tracks, in order) and what was
-/// excused.
+/// The frames to score — every frame from the first to the last one that the ground truth or
+/// the tracks know, with or without objects — and what was excused.
 pub fn prepare(
     gt: &GroundTruth,
     tracks: &[TrackRow],
@@ -82,6 +82,13 @@ pub fn prepare(
     }
     for track in tracks {
         by_frame.entry(track.frame).or_default().1.push(track);
+    }
+    let first = by_frame.first_key_value().map(|(&f, _)| f);
+    let last = by_frame.last_key_value().map(|(&f, _)| f);
+    if let (Some(first), Some(last)) = (first, last) {
+        for frame in first..=last {
+            by_frame.entry(frame).or_default();
+        }
     }
     let mut excused = Excused::default();
     let frames = by_frame
@@ -336,7 +343,7 @@ mod tests {
     }
 
     #[test]
-    fn frames_are_the_union_of_gt_and_track_frames() {
+    fn frames_span_gt_and_track_frames() {
         let gt = GroundTruth {
             frames: vec![GtFrame {
                 frame: 0,
@@ -346,10 +353,11 @@ mod tests {
             view: None,
             ..GroundTruth::default()
         };
-        let tracks = [track(0, 10, 10.0, 0.0), track(2, 10, 10.0, 0.0)];
+        let tracks = [track(0, 10, 10.0, 0.0), track(3, 10, 10.0, 0.0)];
         let (frames, _) = prepare(&gt, &tracks, &EvalConfig::default());
-        assert_eq!(frames.iter().map(|f| f.frame).collect::<Vec<_>>(), [0, 2]);
-        assert!(frames[1].objects.is_empty());
-        assert_eq!(ids(&frames[1]), [10]);
+        assert_eq!(frames.iter().map(|f| f.frame).collect::<Vec<_>>(), [0, 1, 2, 3]);
+        assert!(frames[1].objects.is_empty() && frames[1].hypotheses.is_empty());
+        assert!(frames[3].objects.is_empty());
+        assert_eq!(ids(&frames[3]), [10]);
     }
 }

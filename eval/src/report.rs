@@ -12,8 +12,8 @@ use crate::{
 };
 
 /// Every metric of one evaluation and the counts behind them. Serialised flat: `mota`, `motp`,
-/// `idf1`, `idsw`, `fp`, `fn`, `frag`, `hota`, `deta`, `assa`, … (a metric with no defined value,
-/// e.g. MOTA without GT objects, is `null`).
+/// `idf1`, `idsw`, `fp`, `fn`, `frag`, `hota`, `deta`, `assa`, … A ratio with no finite value
+/// (e.g. MOTA without GT objects: −∞ with false positives, NaN without) is `null` in JSON.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Metrics {
     /// CLEAR MOT.
