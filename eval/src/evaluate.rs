@@ -68,7 +68,11 @@ mod tests {
         };
         let tracks = (0..10)
             .flat_map(|frame| {
-                let (a, b) = if frame < 5 { (0.05, 0.95) } else { (0.95, 0.05) };
+                let (a, b) = if frame < 5 {
+                    (0.05, 0.95)
+                } else {
+                    (0.95, 0.05)
+                };
                 [track(frame, 7, a), track(frame, 8, b)]
             })
             .collect();

@@ -355,7 +355,10 @@ mod tests {
         };
         let tracks = [track(0, 10, 10.0, 0.0), track(3, 10, 10.0, 0.0)];
         let (frames, _) = prepare(&gt, &tracks, &EvalConfig::default());
-        assert_eq!(frames.iter().map(|f| f.frame).collect::<Vec<_>>(), [0, 1, 2, 3]);
+        assert_eq!(
+            frames.iter().map(|f| f.frame).collect::<Vec<_>>(),
+            [0, 1, 2, 3]
+        );
         assert!(frames[1].objects.is_empty() && frames[1].hypotheses.is_empty());
         assert!(frames[3].objects.is_empty());
         assert_eq!(ids(&frames[3]), [10]);
