@@ -27,23 +27,21 @@ pub async fn sse(
     let stream = stream::unfold(
         (events, shutdown, state),
         |(mut events, mut shutdown, state)| async move {
-            loop {
-                let next = tokio::select! {
-                    _ = shutdown.changed() => return None,
-                    next = events.recv() => next,
-                };
-                let event = match next {
-                    Ok(tracks) => tracks_event(&tracks),
-                    Err(RecvError::Lagged(n)) => {
-                        for _ in 0..n {
-                            state.metrics.count_drop("sse_lagged");
-                        }
-                        Event::default().event("lagged").data(n.to_string())
+            let next = tokio::select! {
+                _ = shutdown.changed() => return None,
+                next = events.recv() => next,
+            };
+            let event = match next {
+                Ok(tracks) => tracks_event(&tracks),
+                Err(RecvError::Lagged(n)) => {
+                    for _ in 0..n {
+                        state.metrics.count_drop("sse_lagged");
                     }
-                    Err(RecvError::Closed) => return None,
-                };
-                return Some((Ok(event), (events, shutdown, state)));
-            }
+                    Event::default().event("lagged").data(n.to_string())
+                }
+                Err(RecvError::Closed) => return None,
+            };
+            Some((Ok(event), (events, shutdown, state)))
         },
     );
     Sse::new(stream).keep_alive(KeepAlive::new().interval(Duration::from_secs(10)))
