@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Point, grid::CellGrid};
+use crate::{Point, voxel::VoxelGrid};
 
 /// An axis-aligned box in the sensor frame (metres); a point on a face is inside.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,9 +50,8 @@ pub struct FilterConfig {
     /// Drop points inside this box: the ego vehicle's own returns. Default [`KITTI_EGO_BOX`].
     pub ego_box: Option<Aabb>,
     /// Replace the points of each cubic voxel of this edge (metres) by their mean, as PCL's
-    /// `VoxelGrid` does. Default: none (every point kept). Voxels are aligned to multiples of
-    /// the edge; a cloud over 2048 voxels wide in both x and y gets proportionally larger
-    /// voxels.
+    /// `VoxelGrid` does. Voxels are aligned to multiples of the edge. Default: none (every
+    /// point kept).
     pub voxel_size: Option<f32>,
 }
 
@@ -85,8 +84,7 @@ impl FilterConfig {
 #[derive(Debug, Default)]
 pub struct Filter {
     config: FilterConfig,
-    kept: Vec<Point>,
-    grid: CellGrid,
+    voxels: VoxelGrid,
 }
 
 impl Filter {
@@ -104,7 +102,7 @@ impl Filter {
     }
 
     /// Writes the kept points of `input` into `out` (cleared first): in input order, or, with
-    /// voxels, one mean point per voxel in grid order. Allocates nothing once the buffers have
+    /// voxels, one mean point per voxel in the order the voxels are first met. Allocates nothing once the buffers have
     /// grown to the scan size.
     pub fn run(&mut self, input: &[Point], out: &mut Vec<Point>) {
         out.clear();
@@ -113,28 +111,13 @@ impl Filter {
             out.extend(input.iter().filter(|p| self.config.keeps(p)));
             return;
         };
-        self.kept.clear();
-        self.kept
-            .extend(input.iter().filter(|p| self.config.keeps(p)));
-        self.grid.build(&self.kept, voxel as f64);
-        for cell in 0..self.grid.cell_count() {
-            let range = self.grid.cell_range(cell);
-            let count = range.len() as f64;
-            let mut sum = [0.0f64; 4];
-            for &i in &self.grid.order()[range] {
-                let p = self.kept[i as usize];
-                sum[0] += p.x as f64;
-                sum[1] += p.y as f64;
-                sum[2] += p.z as f64;
-                sum[3] += p.intensity as f64;
-            }
-            out.push(Point::new(
-                (sum[0] / count) as f32,
-                (sum[1] / count) as f32,
-                (sum[2] / count) as f32,
-                (sum[3] / count) as f32,
-            ));
-        }
+        let config = &self.config;
+        self.voxels.downsample(
+            input.iter().copied().filter(|p| config.keeps(p)),
+            voxel,
+            input.len(),
+            out,
+        );
     }
 }
 

@@ -13,7 +13,6 @@ pub mod fleet;
 pub mod frame;
 pub mod geo;
 pub mod ground;
-mod grid;
 pub mod occupancy;
 pub mod oxts;
 mod pca;
@@ -24,6 +23,7 @@ pub mod superframe;
 pub mod track;
 pub mod transform;
 pub mod vfh;
+mod voxel;
 pub mod wire;
 
 pub use frame::{Ego, Frame, ObjectClass, StageTimings, TrackState};

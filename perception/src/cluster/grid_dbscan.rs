@@ -7,8 +7,11 @@
 //! two cells away along each axis. When the cloud is too wide for cells that small (see
 //! [`CellGrid`]), the same phases run point by point.
 
-use super::{Clustering, NOISE, Params, dist2, numbering::Numbering, union_find::UnionFind};
-use crate::{Point, grid::CellGrid};
+use super::{
+    Clustering, NOISE, Params, cell_grid::CellGrid, dist2, numbering::Numbering,
+    union_find::UnionFind,
+};
+use crate::Point;
 
 /// Above this many point pairs, two cells are first trimmed to the points that can reach the
 /// other cell's box.

@@ -6,10 +6,11 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
+use super::cell_grid::finite_xyz;
 use super::{
     ClusterError, Clustering, NOISE, Params, dist2, numbering::Numbering, union_find::UnionFind,
 };
-use crate::{Point, grid::finite_xyz};
+use crate::Point;
 
 /// Scratch of the k-d tree DBSCAN (the tree itself is rebuilt per run).
 #[derive(Debug, Default)]

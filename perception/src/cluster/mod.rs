@@ -15,6 +15,7 @@
 //!
 //! Points with a non-finite coordinate are noise and nobody's neighbour.
 
+mod cell_grid;
 mod grid_dbscan;
 mod kdtree_dbscan;
 mod numbering;

@@ -1,44 +1,33 @@
 //! Surface normals as PCL's `NormalEstimation` with `setKSearch(k)` gives them: the plane
 //! normal (smallest principal axis) of each point's k nearest neighbours, the point itself
-//! included, turned towards the viewpoint. Neighbours come from a kiddo k-d tree.
+//! included, turned towards the viewpoint.
 
-use std::num::NonZeroUsize;
-
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
-
+use super::knn::KnnTree;
 use crate::pca::{Moments, smallest_eigenvector};
 
 /// Writes one unit normal per point of `points` into `normals` (cleared first), from the
 /// `k` nearest neighbours (all points when there are fewer), each turned so that it faces
 /// `viewpoint`. Neighbourhoods on a line or a single point get some unit vector orthogonal
-/// to it.
-pub fn estimate_normals(
+/// to it. `tree` is scratch.
+pub(crate) fn estimate_normals(
     points: &[[f32; 3]],
     k: usize,
     viewpoint: [f32; 3],
+    tree: &mut KnnTree,
     normals: &mut Vec<[f32; 3]>,
 ) {
     normals.clear();
-    let Some(k) = NonZeroUsize::new(k.min(points.len())) else {
-        return;
-    };
-    let Ok(tree) = ImmutableKdTree::<f32, 3>::new_from_slice(points) else {
-        // Only more than u32::MAX points can fail; they get the vertical.
-        normals.resize(points.len(), [0.0, 0.0, 1.0]);
-        return;
-    };
-    for p in points {
+    normals.resize(points.len(), [0.0, 0.0, 1.0]);
+    tree.build(points);
+    tree.for_each_knn(k, |index, neighbours| {
         let mut moments = Moments::default();
-        for found in tree
-            .query(p)
-            .nearest_n::<SquaredEuclidean<f32>>(k)
-            .execute()
-        {
-            moments.add(points[found.item as usize].map(f64::from));
+        for q in neighbours {
+            moments.add(q.map(f64::from));
         }
         let (_, normal) = smallest_eigenvector(moments.covariance());
         let mut normal = normal.map(|c| c as f32);
         // flipNormalTowardsViewpoint: (vp - p) · n < 0 -> flip.
+        let p = points[index as usize];
         let to_viewpoint = [
             viewpoint[0] - p[0],
             viewpoint[1] - p[1],
@@ -49,8 +38,8 @@ pub fn estimate_normals(
         if cos < 0.0 {
             normal = normal.map(|c| -c);
         }
-        normals.push(normal);
-    }
+        normals[index as usize] = normal;
+    });
 }
 
 #[cfg(test)]
@@ -63,12 +52,13 @@ mod tests {
             .map(|i| [(i % 10) as f32 * 0.1 + 5.0, (i / 10) as f32 * 0.1, -1.7])
             .collect();
         let mut normals = Vec::new();
-        estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut normals);
+        let mut tree = KnnTree::default();
+        estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut tree, &mut normals);
         assert_eq!(normals.len(), 100);
         for n in &normals {
             assert!((n[2] - 1.0).abs() < 1e-5, "{n:?}");
         }
-        estimate_normals(&points, 10, [0.0, 0.0, -5.0], &mut normals);
+        estimate_normals(&points, 10, [0.0, 0.0, -5.0], &mut tree, &mut normals);
         assert!(normals.iter().all(|n| (n[2] + 1.0).abs() < 1e-5));
     }
 
@@ -88,15 +78,15 @@ mod tests {
                 ]);
             }
         }
-        let mut normals = Vec::new();
+        let (mut normals, mut tree) = (Vec::new(), KnnTree::default());
         // Seen from the centre: normals point inwards (near the pole the 10 neighbours lie on
         // one small circle, whose axis is the normal: 0.1 rad off the radius).
-        estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut normals);
+        estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut tree, &mut normals);
         for (p, n) in points.iter().zip(&normals) {
             let radial = p[0] * n[0] + p[1] * n[1] + p[2] * n[2];
             assert!(radial < -0.98, "{p:?} {n:?}");
         }
-        estimate_normals(&[], 10, [0.0; 3], &mut normals);
+        estimate_normals(&[], 10, [0.0; 3], &mut tree, &mut normals);
         assert!(normals.is_empty());
     }
 }

@@ -1,8 +1,7 @@
 //! A cubic-cell grid over a point cloud, built without hashing: points are bucketed by their
 //! (x, y) column with a counting sort over a dense column table, then ordered by z-cell inside
 //! each column, so every cell is a contiguous run of points and the cells of a column are sorted
-//! by height. Shared by voxel down-sampling and grid DBSCAN; all buffers are reused from frame
-//! to frame.
+//! by height. The grid DBSCAN's index; all buffers are reused from frame to frame.
 
 use crate::Point;
 
