@@ -1,7 +1,7 @@
 //! The tracker on synthetic clusters: boxes seen from a sensor (their visible faces only),
 //! moving along straight lines, fed scan by scan.
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Isometry3, Vector2, Vector3};
 use trackd_perception::track::{
     AssociationMode, ClusterInput, Ground, ScanContext, TrackConfig, Tracker,
 };
@@ -105,6 +105,7 @@ fn run(
 ) -> Vec<Reported> {
     let mut tracker = Tracker::new(config);
     let cdf = flat_cdf();
+    let ground = Ground::horizontal(0.0);
     let mut out = Vec::new();
     for k in 0..scans {
         let t = k as f64 * 0.1;
@@ -124,8 +125,9 @@ fn run(
             .collect();
         let scan = ScanContext {
             timestamp: t,
-            sensor: Vector3::new(0.0, 0.0, 1.73),
-            ground: Ground::horizontal(0.0),
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground: &ground,
+            visibility: None,
         };
         tracker.step(&scan, &clusters);
         out.push(

@@ -67,18 +67,20 @@ pub struct ClassifyConfig {
     pub person_max_height: f64,
     /// Highest lowest point (m) of a person: feet are on the ground. Default 0.6.
     pub person_max_bottom: f64,
-    /// Shortest longer BEV side (m) of a person: thinner is a post. Default 0.25.
+    /// Shortest longer BEV side (m) of a person: thinner is a post. Default 0.15.
     pub person_min_length: f64,
+    /// A static person must be at least this long (m) and as wide at the shoulders (upper
+    /// third): posts, trunks and sign poles are thinner. Default 0.4.
+    pub static_person_min_width: f64,
     /// Highest lowest point (m) of a car: wheels are on the ground. Default 0.8.
     pub car_max_bottom: f64,
     /// Highest top (m) of a car or van; taller needs a truck's length. Default 2.6.
     pub car_max_height: f64,
-    /// Highest top (m) of a car whose top is cut by the field of view: the cut passes below a
-    /// van's roof only within about 10 m of the sensor; a taller cut object is a tree or a
-    /// building. Default 2.1.
-    pub car_max_truncated_top: f64,
-    /// Shortest visible length (m) of something taller than a car: a truck. Default 6.5.
-    pub truck_min_length: f64,
+    /// Longest visible side (m) of a car or van; longer (trucks, buses, trams) is an object
+    /// only if it moves, like a wall. Default 6.5.
+    pub car_max_length: f64,
+    /// A static car shows a side at least this long (m): its back is this wide. Default 1.6.
+    pub static_car_min_length: f64,
     /// A car's upper third (roof, windows) is at least this fraction of its lower third's
     /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.4.
     pub car_min_upper_ratio: f64,
@@ -87,10 +89,15 @@ pub struct ClassifyConfig {
     pub sensor_upper_fov_deg: f64,
     /// A top within this (degrees) of the upper edge is cut by it. Default 0.4.
     pub truncation_tolerance_deg: f64,
-    /// A track whose box moved farther than this from where it was born (m)... Default 2.0.
-    pub moving_min_displacement: f64,
-    /// ...at a speed above this (m/s) moves. Default 1.0.
-    pub moving_min_speed: f64,
+    /// Motion is judged on points of the track's cluster kept as probes, once they are this
+    /// old (s)... Default 0.3.
+    pub motion_probe_min_age: f64,
+    /// ...and replaced by fresh ones when this old (s) without the track having moved (a
+    /// parked car that drives off). Default 1.5.
+    pub motion_probe_max_age: f64,
+    /// A track moves when at least this share of its probes the scan decides on are now seen
+    /// through (free space where the object was). Default 0.6.
+    pub moving_free_fraction: f64,
     /// Weight of the past in the class votes, per observation. Default 0.9.
     pub vote_memory: f32,
 }
@@ -128,16 +135,18 @@ impl Default for ClassifyConfig {
             person_max_width: 1.2,
             person_max_height: 2.1,
             person_max_bottom: 0.6,
-            person_min_length: 0.25,
+            person_min_length: 0.15,
+            static_person_min_width: 0.2,
             car_max_bottom: 0.8,
             car_max_height: 2.6,
-            car_max_truncated_top: 2.1,
-            truck_min_length: 6.5,
+            car_max_length: 6.5,
+            static_car_min_length: 1.6,
             car_min_upper_ratio: 0.4,
             sensor_upper_fov_deg: 2.0,
             truncation_tolerance_deg: 0.4,
-            moving_min_displacement: 2.0,
-            moving_min_speed: 1.0,
+            motion_probe_min_age: 0.3,
+            motion_probe_max_age: 1.5,
+            moving_free_fraction: 0.6,
             vote_memory: 0.9,
         }
     }
@@ -173,6 +182,9 @@ pub struct ShapeFeatures {
     /// Whether the top reaches the upper edge of the sensor's field of view (the object may
     /// be taller than seen).
     pub truncated: bool,
+    /// Whether the view is one flat face seen at a grazing angle: a box-shaped object seen so
+    /// would show a second face, a wall does not.
+    pub oblique_face: bool,
 }
 
 /// Why a view is static structure.
@@ -197,15 +209,19 @@ pub enum StructureKind {
 pub enum ShapeVerdict {
     /// Static structure.
     Structure(StructureKind),
-    /// Shaped like an object of this class.
+    /// Shaped like an object of this class, and like nothing static.
     Object(ObjectClass),
+    /// Shaped like an object of this class but also like common static clutter (a post is
+    /// shaped like a pedestrian, a planter like the corner of a car, a building's porch like a
+    /// truck): an object if it moves.
+    Movable(ObjectClass),
     /// Neither clearly structure nor shaped like a known object class.
     Unknown,
 }
 
 /// The verdict on one view.
 pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
-    use ShapeVerdict::{Object, Structure};
+    use ShapeVerdict::{Movable, Object, Structure};
     use StructureKind::*;
     if f.top > c.max_object_height {
         return Structure(TooTall);
@@ -225,98 +241,123 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     if f.top > c.tree_min_height && f.upper_width > c.tree_spread_ratio * f.lower_width.max(0.2) {
         return Structure(Tree);
     }
+    if f.oblique_face {
+        return ShapeVerdict::Unknown;
+    }
     let person_shaped = f.upper_width <= c.person_max_upper_width
         && f.width <= c.person_max_width
         && f.length >= c.person_min_length
         && f.top <= c.person_max_height
         && f.bottom <= c.person_max_bottom;
-    // A person-sized top cut by the field of view: a trunk or a post as likely as a person.
-    if person_shaped && !f.truncated {
-        if f.length <= c.pedestrian_max_length {
-            return Object(ObjectClass::Pedestrian);
-        }
-        if f.length <= c.cyclist_max_length {
-            return Object(ObjectClass::Cyclist);
-        }
+    if person_shaped {
+        let class = if f.length <= c.pedestrian_max_length {
+            ObjectClass::Pedestrian
+        } else if f.length <= c.cyclist_max_length {
+            ObjectClass::Cyclist
+        } else {
+            return ShapeVerdict::Unknown;
+        };
+        // A top cut by the field of view may belong to a trunk or a post.
+        let sure = !f.truncated
+            && f.length >= c.static_person_min_width
+            && f.upper_width >= c.static_person_min_width;
+        return if sure { Object(class) } else { Movable(class) };
     }
-    let car_shaped = !person_shaped
-        && (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
+    let grounded_box = (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
         && f.bottom <= c.car_max_bottom
-        && f.upper_width >= c.car_min_upper_ratio * f.lower_width
-        && (f.length >= c.truck_min_length
-            || f.top
-                <= if f.truncated {
-                    c.car_max_truncated_top
-                } else {
-                    c.car_max_height
-                });
-    if car_shaped {
-        return Object(ObjectClass::Car);
+        && f.upper_width >= c.car_min_upper_ratio * f.lower_width;
+    if !grounded_box {
+        return ShapeVerdict::Unknown;
     }
-    ShapeVerdict::Unknown
+    // A top cut by the field of view is no lower than the cut, which is where it was seen:
+    // `top` bounds the height from below either way.
+    if f.top <= c.car_max_height
+        && f.length <= c.car_max_length
+        && f.length >= c.static_car_min_length
+    {
+        Object(ObjectClass::Car)
+    } else {
+        Movable(ObjectClass::Car)
+    }
 }
 
 /// A track's accumulated evidence of what it is.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClassVotes {
-    car: f32,
-    cyclist: f32,
-    pedestrian: f32,
+    /// Votes of `Object` verdicts: car, cyclist, pedestrian.
+    sure: [f32; 3],
+    /// Votes of `Movable` verdicts: car, cyclist, pedestrian.
+    movable: [f32; 3],
     unknown: f32,
     structure: f32,
+}
+
+/// The classes votes are kept for, in vote order.
+const VOTED: [ObjectClass; 3] = [
+    ObjectClass::Car,
+    ObjectClass::Cyclist,
+    ObjectClass::Pedestrian,
+];
+
+/// The vote slot of `class`.
+fn slot(class: ObjectClass) -> Option<usize> {
+    VOTED.iter().position(|c| *c == class)
 }
 
 impl ClassVotes {
     /// Adds the verdict of one more view; older views weigh `memory` times less each time.
     pub fn add(&mut self, verdict: ShapeVerdict, memory: f32) {
-        for v in [
-            &mut self.car,
-            &mut self.cyclist,
-            &mut self.pedestrian,
-            &mut self.unknown,
-            &mut self.structure,
-        ] {
+        for v in self
+            .sure
+            .iter_mut()
+            .chain(&mut self.movable)
+            .chain([&mut self.unknown, &mut self.structure])
+        {
             *v *= memory;
         }
         match verdict {
             ShapeVerdict::Structure(_) => self.structure += 1.0,
-            ShapeVerdict::Object(ObjectClass::Car) => self.car += 1.0,
-            ShapeVerdict::Object(ObjectClass::Cyclist) => self.cyclist += 1.0,
-            ShapeVerdict::Object(ObjectClass::Pedestrian) => self.pedestrian += 1.0,
-            ShapeVerdict::Object(_) | ShapeVerdict::Unknown => self.unknown += 1.0,
+            ShapeVerdict::Object(class) => match slot(class) {
+                Some(k) => self.sure[k] += 1.0,
+                None => self.unknown += 1.0,
+            },
+            ShapeVerdict::Movable(class) => match slot(class) {
+                Some(k) => self.movable[k] += 1.0,
+                None => self.unknown += 1.0,
+            },
+            ShapeVerdict::Unknown => self.unknown += 1.0,
         }
     }
 
     /// The object class the votes point to, or `None` (structure, or not identified).
     ///
-    /// Structure outweighing everything else is structure, moving or not (the visible part of
-    /// a wall slides along it as the vehicle passes). A static track is its most voted object
-    /// class when object votes outweigh structure and unclear views; a moving one needs only
-    /// to outweigh half the unclear views, and is "other movable" when it fits no class.
+    /// Structure outweighing everything else is structure, moving or not. A static track is
+    /// its most voted class when views shaped like nothing static outweigh the others; a
+    /// moving one counts the views shaped like clutter too, needs to outweigh only half the
+    /// unclear views, and is "other movable" when it fits no class.
     pub fn identity(&self, moving: bool) -> Option<ObjectClass> {
-        let objects = self.car + self.cyclist + self.pedestrian;
-        if self.structure >= objects + self.unknown {
+        let sure: f32 = self.sure.iter().sum();
+        let movable: f32 = self.movable.iter().sum();
+        if self.structure >= sure + movable + self.unknown {
             return None;
         }
-        let best = [
-            (self.car, ObjectClass::Car),
-            (self.cyclist, ObjectClass::Cyclist),
-            (self.pedestrian, ObjectClass::Pedestrian),
-        ]
-        .into_iter()
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .filter(|(v, _)| *v > 0.0)
-        .map(|(_, class)| class);
+        let best = |votes: [f32; 3]| {
+            (0..3)
+                .max_by(|&a, &b| votes[a].total_cmp(&votes[b]))
+                .filter(|&k| votes[k] > 0.0)
+                .map(|k| VOTED[k])
+        };
         if moving {
-            if objects >= 0.5 * self.unknown {
-                return best;
+            let all = [0, 1, 2].map(|k| self.sure[k] + self.movable[k]);
+            if sure + movable >= 0.5 * self.unknown {
+                return best(all);
             }
             return Some(ObjectClass::OtherMovable);
         }
-        if self.structure >= objects || self.unknown > objects {
+        if self.structure >= sure || self.unknown + movable > sure {
             return None;
         }
-        best
+        best(self.sure)
     }
 }
 
@@ -333,6 +374,7 @@ mod tests {
             upper_width: upper,
             lower_width: lower,
             truncated: false,
+            oblique_face: false,
         }
     }
 
@@ -358,14 +400,24 @@ mod tests {
             v(features(1.8, 0.4, 1.8, 0.5, 1.8)),
             ShapeVerdict::Object(ObjectClass::Cyclist)
         );
+        // A post shaped like a person seen side-on: a person only if it moves.
+        assert_eq!(
+            v(features(0.18, 0.15, 1.9, 0.15, 0.15)),
+            ShapeVerdict::Movable(ObjectClass::Pedestrian)
+        );
+        // A round planter with a bush, 1.5 m across: a car only if it moves.
+        assert_eq!(
+            v(features(1.5, 1.2, 1.5, 1.3, 1.4)),
+            ShapeVerdict::Movable(ObjectClass::Car)
+        );
         assert_eq!(
             v(features(0.7, 0.5, 1.75, 0.45, 0.6)),
             ShapeVerdict::Object(ObjectClass::Pedestrian)
         );
-        // A truck.
+        // A truck, or a building's porch: an object if it moves.
         assert_eq!(
             v(features(9.0, 2.5, 3.4, 8.0, 9.0)),
-            ShapeVerdict::Object(ObjectClass::Car)
+            ShapeVerdict::Movable(ObjectClass::Car)
         );
     }
 
@@ -412,16 +464,25 @@ mod tests {
         // A thin post at pedestrian height.
         assert_eq!(
             v(features(0.15, 0.08, 1.8, 0.1, 0.1)),
-            ShapeVerdict::Unknown
+            ShapeVerdict::Movable(ObjectClass::Pedestrian)
         );
         // A person-sized trunk whose top is cut by the field of view.
         let trunk = ShapeFeatures {
             truncated: true,
             ..features(0.9, 0.6, 2.05, 0.6, 0.7)
         };
-        assert_eq!(v(trunk), ShapeVerdict::Unknown);
+        assert_eq!(v(trunk), ShapeVerdict::Movable(ObjectClass::Pedestrian));
         // Car-sized but 2.9 m tall and short: a kiosk, a hedge, a tree's lower canopy.
-        assert_eq!(v(features(3.5, 1.7, 2.9, 3.2, 1.6)), ShapeVerdict::Unknown);
+        assert_eq!(
+            v(features(3.5, 1.7, 2.9, 3.2, 1.6)),
+            ShapeVerdict::Movable(ObjectClass::Car)
+        );
+        // One flat face 2 m long, seen edge-on from 20 m along it: a wall, not a car's back.
+        let wall = ShapeFeatures {
+            oblique_face: true,
+            ..features(2.0, 0.05, 1.8, 2.0, 2.0)
+        };
+        assert_eq!(v(wall), ShapeVerdict::Unknown);
         // Car-sized but bottom-heavy: a bicycle stand with a post.
         assert_eq!(v(features(4.3, 1.4, 1.8, 0.8, 3.9)), ShapeVerdict::Unknown);
     }
@@ -451,6 +512,13 @@ mod tests {
         }
         wall.add(ShapeVerdict::Unknown, 0.9);
         assert_eq!(wall.identity(true), None);
+        // A post never seen moving is not a pedestrian; a walker is.
+        let mut post = ClassVotes::default();
+        for _ in 0..10 {
+            post.add(ShapeVerdict::Movable(ObjectClass::Pedestrian), 0.9);
+        }
+        assert_eq!(post.identity(false), None);
+        assert_eq!(post.identity(true), Some(ObjectClass::Pedestrian));
         // Recent views weigh more: a cyclist first seen merged with a bush.
         let mut recent = ClassVotes::default();
         for _ in 0..3 {

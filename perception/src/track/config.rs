@@ -41,6 +41,9 @@ pub struct AssociationConfig {
     pub chi2_weight: f64,
     /// Weight of the max CDF deviation in the assignment cost. Default 2.0.
     pub mdt_weight: f64,
+    /// A cluster longer than this many times the track's length, plus 1 m, is another object
+    /// (a van next to the pole a track was born on). Default 2.0.
+    pub size_gate: f64,
 }
 
 impl Default for AssociationConfig {
@@ -52,6 +55,7 @@ impl Default for AssociationConfig {
             gate: 13.8,
             chi2_weight: 2.0,
             mdt_weight: 2.0,
+            size_gate: 2.0,
         }
     }
 }

@@ -9,13 +9,17 @@ pub mod box_fit;
 pub mod classify;
 pub mod confidence;
 pub mod config;
+pub mod fragments;
+pub mod ground;
 mod histogram;
 pub mod motion;
 pub mod observation;
 pub mod split;
 pub mod tracker;
+pub mod visibility;
 
 pub use config::{AssociationMode, TrackConfig};
-pub use observation::Ground;
+pub use ground::Ground;
 pub use split::Splitter;
 pub use tracker::{ClusterInput, PredictedBox, ScanContext, Track, Tracker};
+pub use visibility::RangeImage;

@@ -1,43 +1,20 @@
 //! What the tracker measures of one cluster: its visible outline in bird's-eye view, its
 //! height profile above the ground and its shape verdict.
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 
 use super::box_fit::{Rect, fit_rectangle};
 use super::classify::{ClassifyConfig, ShapeFeatures, ShapeVerdict, classify_shape};
+use super::ground::Ground;
 use crate::Point;
 
-/// The ground under the clusters, in the world frame: heights are `normal · p + offset`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ground {
-    /// Unit normal pointing up.
-    pub normal: Vector3<f64>,
-    /// Offset of the plane.
-    pub offset: f64,
-}
-
-impl Ground {
-    /// A horizontal ground at height `z`.
-    pub fn horizontal(z: f64) -> Self {
-        Self {
-            normal: Vector3::z(),
-            offset: -z,
-        }
-    }
-
-    /// Height of `p` above the ground.
-    pub fn height(&self, p: &Vector3<f64>) -> f64 {
-        self.normal.dot(p) + self.offset
-    }
-
-    /// The world z of the ground straight below (or above) `p`.
-    pub fn z_below(&self, p: &Vector3<f64>) -> f64 {
-        if self.normal.z.abs() < 1e-6 {
-            return p.z;
-        }
-        p.z - self.height(p) / self.normal.z
-    }
-}
+/// An outline thinner than this (m) is one face.
+const ONE_FACE_DEPTH: f64 = 0.3;
+/// Faces shorter than this (m) are not judged: a rider's back hides no second face worth
+/// seeing.
+const MIN_OBLIQUE_FACE: f64 = 1.2;
+/// A face is seen edge-on when the sensor lies farther than this (m) beyond its ends.
+const OBLIQUE_MARGIN: f64 = 1.0;
 
 /// One cluster as the tracker sees it.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,11 +55,11 @@ pub struct Observer {
 }
 
 impl Observer {
-    /// Measures the cluster made of `points` (world frame) seen from `sensor`.
+    /// Measures the cluster made of `points` (world frame) seen by the sensor at `pose`.
     pub fn observe(
         &mut self,
         points: &[Point],
-        sensor: &Vector3<f64>,
+        pose: &Isometry3<f64>,
         ground: &Ground,
         classify: &ClassifyConfig,
     ) -> Observation {
@@ -109,14 +86,27 @@ impl Observer {
         } else {
             (bottom, top)
         };
-        let truncated = self.bev.get(highest).is_some_and(|p| {
-            let elevation = (top - ground.height(sensor)).atan2((p - sensor.xy()).norm());
+        // The highest point's elevation in the sensor frame.
+        let truncated = points.get(highest).is_some_and(|p| {
+            let q = pose.inverse_transform_point(&Point3::new(p.x as f64, p.y as f64, p.z as f64));
+            let elevation = q.z.atan2(q.xy().coords.norm());
             elevation.to_degrees()
                 >= classify.sensor_upper_fov_deg - classify.truncation_tolerance_deg
         });
+        let sensor = pose.translation.vector;
         let third = (top - bottom) / 3.0;
         let upper_width = self.spread(&rect, |h| h >= top - third);
         let lower_width = self.spread(&rect, |h| h <= bottom + third);
+        // One face only, and the sensor well beyond its ends: seen edge-on.
+        let long_axis = if rect.extent.x >= rect.extent.y {
+            rect.axis()
+        } else {
+            Vector2::new(-rect.axis().y, rect.axis().x)
+        };
+        let along = (sensor.xy() - rect.center).dot(&long_axis).abs();
+        let oblique_face = rect.extent.min() < ONE_FACE_DEPTH
+            && rect.extent.max() > MIN_OBLIQUE_FACE
+            && along > rect.extent.max() / 2.0 + OBLIQUE_MARGIN;
         let shape = ShapeFeatures {
             length: rect.extent.max(),
             width: rect.extent.min(),
@@ -125,6 +115,7 @@ impl Observer {
             upper_width,
             lower_width,
             truncated,
+            oblique_face,
         };
         Observation {
             centroid,
@@ -197,17 +188,14 @@ mod tests {
     fn measures_a_car_on_a_tilted_ground() {
         // Ground rising 2 % along x; a 4.5 × 1.8 × 1.5 car starting 0.2 m above it at x = 10.
         let normal = Vector3::new(-0.02, 0.0, 1.0).normalize();
-        let ground = Ground {
-            normal,
-            offset: 0.0,
-        };
+        let ground = Ground::plane(normal, 0.0);
         let base = Vector3::new(
             10.0,
             3.0,
             0.2 + ground.z_below(&Vector3::new(10.0, 3.0, 0.0)),
         );
         let points = box_points(base, 4.5, 1.8, 1.3);
-        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
         let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
         assert!(!o.shape.truncated);
         assert!((o.shape.length - 4.5).abs() < 0.1);
@@ -227,7 +215,7 @@ mod tests {
         let ground = Ground::horizontal(0.0);
         let mut points = box_points(Vector3::new(5.0, 5.0, 0.0), 0.3, 0.3, 2.0);
         points.extend(box_points(Vector3::new(5.0, 5.0, 2.0), 3.0, 3.0, 1.5));
-        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
         let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
         assert!(o.shape.upper_width > 2.5 && o.shape.lower_width < 0.5);
         assert!(matches!(o.verdict, ShapeVerdict::Structure(_)));
@@ -236,7 +224,7 @@ mod tests {
     #[test]
     fn a_top_at_the_edge_of_the_field_of_view_is_truncated() {
         let ground = Ground::horizontal(0.0);
-        let sensor = Vector3::new(0.0, 0.0, 1.73);
+        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
         // At 8 m the +2° ray passes 1.73 + 8 tan 2° = 2.01 m above the ground.
         let post = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.9);
         let o = Observer::default().observe(&post, &sensor, &ground, &ClassifyConfig::default());

@@ -3,16 +3,18 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 
 use super::assignment::Assigner;
 use super::association::{PairScore, TrackPairs, associate};
 use super::box_fit::{length_heading, place_box};
 use super::classify::{ClassVotes, ShapeVerdict};
 use super::config::{AssociationMode, TrackConfig};
+use super::ground::Ground;
 use super::histogram::{chi2_distance, max_cdf_deviation};
 use super::motion::{MotionModel, wrap_angle};
-use super::observation::{Ground, Observation, Observer};
+use super::observation::{Observation, Observer};
+use super::visibility::{RangeImage, Visibility};
 use crate::{ObjectClass, Point, TrackState};
 
 /// A heading measurement further than this from the track's heading (rad) is an axis flip of
@@ -38,14 +40,24 @@ pub struct ClusterInput<'a> {
 }
 
 /// Where and when a scan was taken.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ScanContext {
+#[derive(Clone, Copy, Debug)]
+pub struct ScanContext<'a> {
     /// Scan time, seconds.
     pub timestamp: f64,
-    /// Position of the sensor in the world frame.
-    pub sensor: Vector3<f64>,
+    /// Pose of the sensor in the world frame.
+    pub pose: Isometry3<f64>,
     /// The ground in the world frame.
-    pub ground: Ground,
+    pub ground: &'a Ground,
+    /// What the scan sees along each direction, when the world frame is fixed (a pose is
+    /// known): the evidence of motion. `None`: motion is not judged.
+    pub visibility: Option<&'a RangeImage>,
+}
+
+impl ScanContext<'_> {
+    /// Position of the sensor in the world frame.
+    pub fn sensor(&self) -> Vector3<f64> {
+        self.pose.translation.vector
+    }
 }
 
 /// A track's predicted box, for splitting clusters that hold several objects.
@@ -75,8 +87,10 @@ pub struct Track {
     hits: u32,
     misses: u32,
     votes: ClassVotes,
-    birth: Vector2<f64>,
     moving: bool,
+    /// Points of an earlier cluster of the track (world frame) and when they were seen.
+    probes: Vec<Vector3<f64>>,
+    probe_time: f64,
     heading_flips: u32,
     cluster: Option<usize>,
 }
@@ -106,7 +120,7 @@ impl Track {
         out
     }
 
-    /// Whether the track has moved clearly since its birth.
+    /// Whether the track has been seen to move: the scan sees through where it was.
     pub fn is_moving(&self) -> bool {
         self.moving
     }
@@ -202,7 +216,7 @@ impl Tracker {
     }
 
     /// Processes one scan's clusters.
-    pub fn step(&mut self, scan: &ScanContext, clusters: &[ClusterInput<'_>]) {
+    pub fn step(&mut self, scan: &ScanContext<'_>, clusters: &[ClusterInput<'_>]) {
         let dt = self.time.map_or(0.0, |t| (scan.timestamp - t).max(0.0));
         self.time = Some(scan.timestamp);
         let process = self.config.motion.process_noise();
@@ -213,9 +227,9 @@ impl Tracker {
         }
         self.observations.clear();
         for c in clusters {
-            let o =
-                self.observer
-                    .observe(c.points, &scan.sensor, &scan.ground, &self.config.classify);
+            let o = self
+                .observer
+                .observe(c.points, &scan.pose, scan.ground, &self.config.classify);
             self.observations.push(o);
         }
         self.score_pairs(scan, clusters);
@@ -251,14 +265,15 @@ impl Tracker {
 
     /// Scores the (track, cluster) pairs association looks at: the gated ones, or all of
     /// them in the paper's modes.
-    fn score_pairs(&mut self, scan: &ScanContext, clusters: &[ClusterInput<'_>]) {
+    fn score_pairs(&mut self, scan: &ScanContext<'_>, clusters: &[ClusterInput<'_>]) {
         let gated = self.config.association.mode == AssociationMode::GatedAssignment;
         let gate = self.config.association.gate;
+        let size_gate = self.config.association.size_gate;
         self.pairs
             .resize_with(self.tracks.len(), TrackPairs::default);
         for (t, pairs) in self.tracks.iter().zip(&mut self.pairs) {
             pairs.pairs.clear();
-            let range = (t.motion.position() - scan.sensor).xy().norm();
+            let range = (t.motion.position() - scan.sensor()).xy().norm();
             let predicted = t
                 .motion
                 .predicted_position(&self.config.motion.measurement_noise(range));
@@ -267,8 +282,11 @@ impl Tracker {
             let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
                 + t.size.xy().norm() / 2.0;
             for (j, o) in self.observations.iter().enumerate() {
+                let too_long = o.shape.length > size_gate * t.size.x.max(t.size.y) + 1.0;
                 if gated
-                    && (o.rect.center - predicted.mean).norm() > reach + o.rect.extent.norm() / 2.0
+                    && (too_long
+                        || (o.rect.center - predicted.mean).norm()
+                            > reach + o.rect.extent.norm() / 2.0)
                 {
                     continue;
                 }
@@ -290,12 +308,12 @@ impl Tracker {
     }
 
     /// Corrects track `k` with cluster `j`.
-    fn update(&mut self, k: usize, j: usize, scan: &ScanContext, cluster: &ClusterInput<'_>) {
+    fn update(&mut self, k: usize, j: usize, scan: &ScanContext<'_>, cluster: &ClusterInput<'_>) {
         let config = &self.config;
         let o = &self.observations[j];
         let t = &mut self.tracks[k];
         let heading = box_heading(t, o, config);
-        let range = (o.centroid - scan.sensor).xy().norm();
+        let range = (o.centroid - scan.sensor()).xy().norm();
         let noise = config.motion.measurement_noise(range);
         // Size first: the box centre is placed with the size this view supports.
         update_size(t, o, heading, config);
@@ -330,15 +348,7 @@ impl Tracker {
         t.misses = 0;
         t.cluster = Some(j);
         t.votes.add(o.verdict, config.classify.vote_memory);
-        let c = &config.classify;
-        let displacement = (t.motion.position().xy() - t.birth).norm();
-        let speed = t.motion.velocity().norm();
-        if displacement > c.moving_min_displacement
-            && speed > c.moving_min_speed
-            && speed > 2.0 * t.motion.velocity_sigma()
-        {
-            t.moving = true;
-        }
+        judge_motion(t, cluster.points, scan, config);
     }
 
     /// Whether unmatched cluster `j` may start a track: not structure, and not a fragment of
@@ -356,11 +366,11 @@ impl Tracker {
     }
 
     /// Starts a track on cluster `j`.
-    fn birth(&mut self, j: usize, scan: &ScanContext, cluster: &ClusterInput<'_>) {
+    fn birth(&mut self, j: usize, scan: &ScanContext<'_>, cluster: &ClusterInput<'_>) {
         let config = &self.config;
         let o = &self.observations[j];
         let class = match o.verdict {
-            ShapeVerdict::Object(class) => Some(class),
+            ShapeVerdict::Object(class) | ShapeVerdict::Movable(class) => Some(class),
             _ => None,
         };
         let prior = class.and_then(|c| config.classify.size_of(c));
@@ -373,15 +383,15 @@ impl Tracker {
             seen_w.max(prior.map_or(0.0, |p| p.width)),
             o.shape.top,
         );
-        let xy = place_box(&o.corners(), heading, size.xy(), &scan.sensor.xy());
+        let xy = place_box(&o.corners(), heading, size.xy(), &scan.sensor().xy());
         let center = Vector3::new(xy.x, xy.y, o.ground_z + size.z / 2.0);
         let m = &config.motion;
         let velocity_sigma = match class {
             Some(ObjectClass::Car) => m.birth_velocity_sigma_car,
-            Some(ObjectClass::Cyclist) | None => m.birth_velocity_sigma_cyclist,
-            Some(_) => m.birth_velocity_sigma_pedestrian,
+            Some(ObjectClass::Cyclist) => m.birth_velocity_sigma_cyclist,
+            _ => m.birth_velocity_sigma_pedestrian,
         };
-        let range = (o.centroid - scan.sensor).xy().norm();
+        let range = (o.centroid - scan.sensor()).xy().norm();
         let mut votes = ClassVotes::default();
         votes.add(o.verdict, config.classify.vote_memory);
         self.tracks.push(Track {
@@ -395,11 +405,15 @@ impl Tracker {
             hits: 1,
             misses: 0,
             votes,
-            birth: center.xy(),
             moving: false,
+            probes: Vec::new(),
+            probe_time: scan.timestamp,
             heading_flips: 0,
             cluster: Some(j),
         });
+        if let Some(t) = self.tracks.last_mut() {
+            judge_motion(t, cluster.points, scan, config);
+        }
         self.next_id += 1;
     }
 }
@@ -449,7 +463,7 @@ fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
 /// the track has seen.
 fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
     let class = t.identity().or(match o.verdict {
-        ShapeVerdict::Object(c) => Some(c),
+        ShapeVerdict::Object(c) | ShapeVerdict::Movable(c) => Some(c),
         _ => None,
     });
     class
@@ -477,11 +491,11 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
 fn measured_center(
     t: &Track,
     o: &Observation,
-    scan: &ScanContext,
+    scan: &ScanContext<'_>,
     config: &TrackConfig,
 ) -> Vector3<f64> {
     let heading = box_heading(t, o, config);
-    let xy = place_box(&o.corners(), heading, t.size.xy(), &scan.sensor.xy());
+    let xy = place_box(&o.corners(), heading, t.size.xy(), &scan.sensor().xy());
     Vector3::new(xy.x, xy.y, o.ground_z + t.size.z / 2.0)
 }
 
@@ -493,4 +507,54 @@ fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
     let along = (co * d.x + s * d.y).abs();
     let across = (-s * d.x + co * d.y).abs();
     along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
+}
+
+/// Probes kept per track.
+const PROBES: usize = 24;
+/// Probes lower than this above the ground (m) are not kept: the ground answers for them.
+const PROBE_MIN_HEIGHT: f64 = 0.4;
+/// Decided probes (seen through or hit) needed to judge motion.
+const MIN_DECIDED_PROBES: usize = 6;
+
+/// Judges whether track `t`, just matched to `points`, moves: where it was a moment ago is
+/// free space now. Keeps fresh probes while it does not.
+fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config: &TrackConfig) {
+    let Some(image) = scan.visibility else {
+        return;
+    };
+    if t.moving {
+        return;
+    }
+    let c = &config.classify;
+    let age = scan.timestamp - t.probe_time;
+    if !t.probes.is_empty() && age >= c.motion_probe_min_age {
+        let to_sensor = scan.pose.inverse();
+        let (mut through, mut hit) = (0, 0);
+        for p in &t.probes {
+            match image.visibility(&(to_sensor * Point3::from(*p)).coords) {
+                Visibility::SeenThrough => through += 1,
+                Visibility::Hit => hit += 1,
+                Visibility::Hidden | Visibility::Unknown => {}
+            }
+        }
+        if through + hit >= MIN_DECIDED_PROBES
+            && through as f64 >= c.moving_free_fraction * (through + hit) as f64
+        {
+            t.moving = true;
+            return;
+        }
+    }
+    if t.probes.is_empty() || age > c.motion_probe_max_age {
+        t.probes.clear();
+        let stride = points.len().div_ceil(PROBES * 2).max(1);
+        t.probes.extend(
+            points
+                .iter()
+                .step_by(stride)
+                .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
+                .filter(|p| scan.ground.height(p) >= PROBE_MIN_HEIGHT)
+                .take(PROBES),
+        );
+        t.probe_time = scan.timestamp;
+    }
 }
