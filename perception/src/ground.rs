@@ -12,7 +12,9 @@
 //!    (`max_bend_deg`), does not step up or down more than `max_step` and has
 //!    `min_zone_points` inliers; otherwise the zone inherits its prior;
 //! 3. a point is ground when it lies at most `distance_threshold + threshold_growth · range`
-//!    above its zone's plane (everything below it is ground too: reflections, kerb drops).
+//!    above its zone's plane (everything below it is ground too: reflections, kerb drops),
+//!    unless its (x, y) column also holds points 0.25-0.6 m up: then it is the base of an
+//!    obstacle (a wheel, a foot, the footing of a wall or pole) and stays with it.
 //!
 //! RANSAC stops early once `confidence` is reached for the best inlier ratio seen; every zone
 //! draws from its own generator seeded from `seed`, so a scan always gives the same result.
@@ -75,6 +77,14 @@ pub struct GroundConfig {
     /// Height of the sensor above the road (metres): the ground plane assumed when the near
     /// range holds no plane at all. Default 1.73 (KITTI).
     pub sensor_height: f32,
+    /// Edge of the square (x, y) columns of the obstacle-base test (metres; 0 turns it off).
+    /// A column holding a point between `base_band[0]` and `base_band[1]` above its zone plane
+    /// holds an obstacle that rises from the ground: its points under the ground threshold are
+    /// the obstacle's base (wheels, feet, wall and pole footings), not ground. Default 0.1.
+    pub base_cell: f32,
+    /// Heights above the zone plane that mark a column as an obstacle's (metres): above kerbs,
+    /// below car roofs and branches that overhang the ground. Default [0.25, 0.6].
+    pub base_band: [f32; 2],
     /// The zone rings, inner to outer. Default: edges at 6, 12, 20, 30, 42 m, then to
     /// infinity, with 8, 16, 24, 32, 32, 32 sectors.
     pub rings: Vec<ZoneRing>,
@@ -98,6 +108,8 @@ impl Default for GroundConfig {
             min_zone_points: 12,
             near_band: [3.0, 15.0],
             sensor_height: 1.73,
+            base_cell: 0.1,
+            base_band: [0.25, 0.6],
             rings: vec![
                 ring(6.0, 8),
                 ring(12.0, 16),
@@ -168,6 +180,9 @@ pub struct GroundRemoval {
     /// Scratch: counting-sort cursors and ground flags.
     cursor: Vec<u32>,
     ground: Vec<bool>,
+    /// Scratch: each point's height above its zone plane, and the obstacle columns.
+    height: Vec<f32>,
+    obstacle_column: Vec<bool>,
 }
 
 impl Default for GroundRemoval {
@@ -227,6 +242,8 @@ impl GroundRemoval {
             sample: Vec::new(),
             cursor: Vec::new(),
             ground: Vec::new(),
+            height: Vec::new(),
+            obstacle_column: Vec::new(),
         }
     }
 
@@ -266,16 +283,64 @@ impl GroundRemoval {
         self.fit_zones(points, near);
 
         let config = &self.config;
+        self.height.clear();
+        self.height
+            .extend(points.iter().zip(&self.zone_of).map(|(p, &zone)| {
+                if zone == u32::MAX {
+                    f32::NEG_INFINITY
+                } else {
+                    self.zone_plane[zone as usize].height(widen(p)) as f32
+                }
+            }));
         is_ground.clear();
-        is_ground.extend(points.iter().enumerate().map(|(i, p)| {
-            if self.zone_of[i] == u32::MAX {
-                return true;
-            }
-            let plane = &self.zone_plane[self.zone_of[i] as usize];
-            let limit = config.distance_threshold + config.threshold_growth * self.range_of[i];
-            plane.height(widen(p)) <= limit as f64
-        }));
+        is_ground.extend(
+            self.height
+                .iter()
+                .zip(&self.range_of)
+                .map(|(&h, &r)| h <= config.distance_threshold + config.threshold_growth * r),
+        );
+        self.keep_obstacle_bases(points, is_ground);
         near
+    }
+
+    /// Turns back to non-ground the low points of columns that hold an obstacle rising from
+    /// the ground (see [`GroundConfig::base_cell`]).
+    fn keep_obstacle_bases(&mut self, points: &[Point], is_ground: &mut [bool]) {
+        let [band_lo, band_hi] = self.config.base_band;
+        let cell = self.config.base_cell;
+        if !(cell > 0.0 && cell.is_finite()) {
+            return;
+        }
+        let mut lo = [f32::INFINITY; 2];
+        let mut hi = [f32::NEG_INFINITY; 2];
+        for p in points.iter().filter(|p| p.is_finite()) {
+            lo = [lo[0].min(p.x), lo[1].min(p.y)];
+            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+        }
+        if lo[0] > hi[0] {
+            return;
+        }
+        // At most 4096 columns a side: wider clouds get wider columns.
+        let side = cell.max((hi[0] - lo[0]).max(hi[1] - lo[1]) / 4096.0);
+        let nx = ((hi[0] - lo[0]) / side) as usize + 1;
+        let ny = ((hi[1] - lo[1]) / side) as usize + 1;
+        let column = |p: &Point| {
+            let cx = (((p.x - lo[0]) / side) as usize).min(nx - 1);
+            let cy = (((p.y - lo[1]) / side) as usize).min(ny - 1);
+            cx * ny + cy
+        };
+        self.obstacle_column.clear();
+        self.obstacle_column.resize(nx * ny, false);
+        for (p, &h) in points.iter().zip(&self.height) {
+            if h >= band_lo && h <= band_hi && p.is_finite() {
+                self.obstacle_column[column(p)] = true;
+            }
+        }
+        for ((p, g), &h) in points.iter().zip(is_ground.iter_mut()).zip(&self.height) {
+            if *g && h.is_finite() && self.obstacle_column[column(p)] {
+                *g = false;
+            }
+        }
     }
 
     /// Computes each point's zone and buckets the points by zone (counting sort).
@@ -403,7 +468,7 @@ impl GroundRemoval {
             .extend(self.candidates.iter().step_by(stride).copied());
         let n = self.sample.len();
         let mut rng = SplitMix64::new(config.seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15));
-        let mut best: Option<(Plane, usize)> = None;
+        let mut best: Option<(Plane, i64, usize)> = None;
         let mut needed = config.max_iterations;
         let mut iteration = 0;
         while iteration < needed.min(config.max_iterations) {
@@ -417,18 +482,22 @@ impl GroundRemoval {
             if dot(plane.normal, prior.normal) < min_cos {
                 continue;
             }
-            let inliers = self
-                .sample
-                .iter()
-                .filter(|&&p| plane.height(p).abs() <= threshold)
-                .count();
-            if best.is_none_or(|(_, count)| inliers > count) {
-                best = Some((plane, inliers));
+            // Ground is the lowest surface: a plane with points well below it (a strip of a
+            // car's side, a low wall top) loses two inliers for each of them.
+            let (mut inliers, mut below) = (0usize, 0usize);
+            for &p in &self.sample {
+                let h = plane.height(p);
+                inliers += usize::from(h.abs() <= threshold);
+                below += usize::from(h < -2.0 * threshold);
+            }
+            let score = inliers as i64 - 2 * below as i64;
+            if best.is_none_or(|(_, s, _)| score > s) {
+                best = Some((plane, score, inliers));
                 let ratio = inliers as f64 / n as f64;
                 needed = iterations_needed(ratio, config.confidence, config.max_iterations);
             }
         }
-        let (hypothesis, _) = best?;
+        let (hypothesis, _, _) = best?;
 
         // Least-squares (orthogonal) refit on all candidates within the threshold.
         let mut moments = Moments::default();
@@ -564,7 +633,7 @@ mod tests {
     use super::*;
 
     /// A ring-like scan of a ground `z = f(x, y)` plus a box-shaped obstacle from 0.3 m to
-    /// 1.5 m above the ground at (12, 4), as (points, is ground).
+    /// 1.5 m above the ground at (12, 4) hiding the ground below it, as (points, is ground).
     fn scene(ground: impl Fn(f32, f32) -> f32) -> (Vec<Point>, Vec<bool>) {
         let mut points = Vec::new();
         let mut truth = Vec::new();
@@ -573,6 +642,9 @@ mod tests {
             for step in 0..720 {
                 let a = step as f32 * std::f32::consts::TAU / 720.0;
                 let (x, y) = (r * a.cos(), r * a.sin());
+                if (10.8..13.3).contains(&x) && (2.8..4.8).contains(&y) {
+                    continue;
+                }
                 // A little deterministic noise, ±2 cm.
                 let noise = ((step * 7 + ring * 13) % 9) as f32 * 0.005 - 0.02;
                 points.push(Point::new(x, y, ground(x, y) + noise, 0.0));
@@ -624,6 +696,32 @@ mod tests {
     }
 
     #[test]
+    fn the_base_of_a_pole_stays_with_the_pole() {
+        let (mut points, mut truth) = scene(|_, _| -1.73);
+        // A pole 8 m ahead: a point every 5 cm from the ground up to 2 m.
+        let base = points.len();
+        for k in 0..40 {
+            points.push(Point::new(8.0, 0.02, -1.73 + k as f32 * 0.05, 0.0));
+            truth.push(false);
+        }
+        let mut ground = Vec::new();
+        GroundRemoval::default().segment(&points, &mut ground);
+        assert!(
+            ground[base..].iter().all(|&g| !g),
+            "the pole's foot was taken for ground"
+        );
+        let wrong = (0..base).filter(|&i| ground[i] != truth[i]).count();
+        assert!(wrong <= 4, "{wrong} ground points lost around the pole");
+        // Without the test the foot is ground.
+        let config = GroundConfig {
+            base_cell: 0.0,
+            ..Default::default()
+        };
+        GroundRemoval::new(config).segment(&points, &mut ground);
+        assert!(ground[base] && ground[base + 1] && !ground[base + 6]);
+    }
+
+    #[test]
     fn remove_keeps_the_other_points_in_order() {
         let (points, truth) = scene(|_, _| -1.73);
         let mut out = Vec::new();
@@ -634,7 +732,12 @@ mod tests {
             .filter(|(_, g)| !**g)
             .map(|(p, _)| *p)
             .collect();
-        assert_eq!(out, expected);
+        assert!(
+            out == expected,
+            "{} kept, {} expected",
+            out.len(),
+            expected.len()
+        );
         assert!((near.normal[2] - 1.0).abs() < 1e-3 && (near.offset - 1.73).abs() < 0.02);
     }
 
