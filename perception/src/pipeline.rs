@@ -1,10 +1,27 @@
 //! The paper's Algorithm 2 for one vehicle: pose → filter → ground → world → DBSCAN → VFH →
-//! tracking → occupancy → super frame, one scan at a time.
+//! tracking → occupancy → super frame, one scan at a time. Every buffer is kept from scan to
+//! scan, so a steady stream of scans allocates next to nothing.
 
-use nalgebra::Isometry3;
+use std::ops::Range;
+use std::time::Instant;
+
+use nalgebra::{Isometry3, Vector3};
+use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::{Frame, StageTimings, TrackState, config::Config, geo::GeoOrigin};
+use crate::cluster::{ClusterError, Clustering, Dbscan};
+use crate::filter::Filter;
+use crate::ground::GroundRemoval;
+use crate::occupancy::OccupancyMap;
+use crate::pose::{PoseError, PoseEstimator};
+use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
+use crate::track::fragments::{Bounds, stacked_groups};
+use crate::track::{
+    ClusterInput, Ground, PredictedBox, RangeImage, ScanContext, Splitter, Tracker,
+};
+use crate::transform::to_world;
+use crate::vfh::{BINS, Vfh, VfhEstimator};
+use crate::{Ego, Frame, Point, StageTimings, TrackState, config::Config, geo::GeoOrigin};
 
 /// Who runs the pipeline and where its world frame is.
 #[derive(Clone, Debug)]
@@ -61,7 +78,8 @@ pub struct FrameOutput {
     pub counts: FrameCounts,
 }
 
-/// Why a scan could not be processed. The pipeline's state is unchanged when this is returned.
+/// Why a scan could not be processed. The pipeline's tracks are unchanged when this is
+/// returned.
 #[derive(Debug, Error)]
 pub enum PipelineError {
     /// The scan's timestamp is not after the previous scan's.
@@ -72,20 +90,101 @@ pub enum PipelineError {
         /// The rejected timestamp.
         got: f64,
     },
+    /// The ego-pose filter refused the scan's OXTS packet (e.g. no GPS fix yet).
+    #[error("ego pose: {0}")]
+    Pose(#[from] PoseError),
+    /// DBSCAN could not run.
+    #[error("clustering: {0}")]
+    Cluster(#[from] ClusterError),
+}
+
+/// The clusters of one scan, gathered contiguously: what VFH and tracking read.
+#[derive(Debug, Default)]
+struct Clusters {
+    /// Points of every cluster, one after the other (world frame).
+    points: Vec<Point>,
+    /// Each cluster's points.
+    ranges: Vec<Range<usize>>,
+    /// Each cluster's VFH and its CDF (`None`: too few points to describe).
+    signatures: Vec<Option<(Vfh, [f32; BINS])>>,
+}
+
+/// Reusable buffers of the stages.
+#[derive(Debug, Default)]
+struct Buffers {
+    filtered: Vec<Point>,
+    is_ground: Vec<bool>,
+    obstacles: Vec<Point>,
+    ground: Vec<Point>,
+    obstacles_world: Vec<Point>,
+    ground_world: Vec<Point>,
+    clustering: Clustering,
+    bounds: Vec<Bounds>,
+    groups: Vec<usize>,
+    group_ranges: Vec<Range<usize>>,
+    grouped: Vec<Point>,
+    boxes: Vec<PredictedBox>,
+    clusters: Clusters,
+    /// Which entry of `clusters` each tracker input is.
+    described: Vec<usize>,
 }
 
 /// One vehicle's perception state: pose filter, tracker, occupancy map, super-frame trigger.
 pub struct Pipeline {
     config: Config,
     vehicle: Vehicle,
+    pose: Option<PoseEstimator>,
+    filter: Filter,
+    ground_removal: GroundRemoval,
+    dbscan: Dbscan,
+    splitter: Splitter,
+    tracker: Tracker,
+    occupancy: OccupancyMap,
+    trigger: Trigger,
+    ground: Ground,
+    range_image: RangeImage,
+    buffers: Buffers,
     next_index: u64,
     last_timestamp: Option<f64>,
+}
+
+/// Stage timing: the milliseconds since the last lap, under `name`.
+struct Laps {
+    last: Instant,
+    timings: StageTimings,
+}
+
+impl Laps {
+    fn start() -> Self {
+        Self {
+            last: Instant::now(),
+            timings: StageTimings::default(),
+        }
+    }
+
+    fn lap(&mut self, name: &'static str) {
+        let now = Instant::now();
+        let ms = (now - self.last).as_secs_f64() * 1e3;
+        self.timings.stages.push((name, ms));
+        self.last = now;
+    }
 }
 
 impl Pipeline {
     /// A pipeline for `vehicle` with `config`.
     pub fn new(config: Config, vehicle: Vehicle) -> Self {
         Self {
+            filter: Filter::new(config.filter.clone()),
+            ground_removal: GroundRemoval::new(config.ground.clone()),
+            dbscan: Dbscan::new(config.cluster.clone()),
+            splitter: Splitter::default(),
+            tracker: Tracker::new(config.track.clone()),
+            occupancy: OccupancyMap::new(config.occupancy.clone()),
+            trigger: Trigger::new(config.superframe.clone()),
+            ground: Ground::horizontal(0.0),
+            range_image: RangeImage::default(),
+            buffers: Buffers::default(),
+            pose: None,
             config,
             vehicle,
             next_index: 0,
@@ -103,7 +202,24 @@ impl Pipeline {
         &self.vehicle
     }
 
-    /// Processes one scan. (Under construction: stages are wired in as they land.)
+    /// The tracker (every track, tentative and structure included).
+    pub fn tracker(&self) -> &Tracker {
+        &self.tracker
+    }
+
+    /// The occupancy map built so far.
+    pub fn occupancy(&self) -> &OccupancyMap {
+        &self.occupancy
+    }
+
+    /// The fleet's geodetic origin, once known (given, or the first GPS fix).
+    pub fn origin(&self) -> Option<GeoOrigin> {
+        self.vehicle
+            .origin
+            .or_else(|| self.pose.as_ref().and_then(PoseEstimator::origin))
+    }
+
+    /// Processes one scan.
     pub fn process(&mut self, frame: Frame) -> Result<FrameOutput, PipelineError> {
         if let Some(previous) = self.last_timestamp
             && frame.timestamp <= previous
@@ -113,21 +229,227 @@ impl Pipeline {
                 got: frame.timestamp,
             });
         }
+        let mut laps = Laps::start();
+        let (pose, tracking_frame) = self.ego_pose(&frame)?;
+        laps.lap("pose");
         self.last_timestamp = Some(frame.timestamp);
         let index = self.next_index;
         self.next_index += 1;
+
+        let b = &mut self.buffers;
+        self.filter.run(&frame.points, &mut b.filtered);
+        laps.lap("filter");
+
+        let plane = self.ground_removal.segment(&b.filtered, &mut b.is_ground);
+        b.obstacles.clear();
+        b.ground.clear();
+        for (p, &g) in b.filtered.iter().zip(&b.is_ground) {
+            if g { &mut b.ground } else { &mut b.obstacles }.push(*p);
+        }
+        laps.lap("ground");
+
+        to_world(&b.obstacles, &pose, &mut b.obstacles_world);
+        to_world(&b.ground, &pose, &mut b.ground_world);
+        let normal = pose.rotation * Vector3::from(plane.normal);
+        let offset = plane.offset - normal.dot(&pose.translation.vector);
+        self.ground.set_plane(normal, offset);
+        self.ground
+            .fill_cells(pose.translation.vector.xy(), &b.ground_world);
+        laps.lap("world");
+
+        self.dbscan.run(&b.obstacles_world, &mut b.clustering)?;
+        self.gather_clusters(frame.timestamp);
+        laps.lap("cluster");
+
+        self.describe_clusters(&pose);
+        laps.lap("vfh");
+
+        let with_visibility = tracking_frame == TrackingFrame::World;
+        if with_visibility {
+            let ego_box = self.config.filter.ego_box;
+            self.range_image.build(
+                frame
+                    .points
+                    .iter()
+                    .filter(|p| !ego_box.is_some_and(|b| b.contains(p))),
+            );
+        }
+        let b = &self.buffers;
+        let c = &b.clusters;
+        let inputs: Vec<ClusterInput<'_>> = b
+            .described
+            .iter()
+            .filter_map(|&k| {
+                let (vfh, cdf) = c.signatures[k].as_ref()?;
+                Some(ClusterInput {
+                    points: &c.points[c.ranges[k].clone()],
+                    vfh,
+                    cdf,
+                })
+            })
+            .collect();
+        let scan = ScanContext {
+            timestamp: frame.timestamp,
+            pose,
+            ground: &self.ground,
+            visibility: with_visibility.then_some(&self.range_image),
+        };
+        self.tracker.step(&scan, &inputs);
+        let tracks: Vec<TrackState> = self.tracker.reported().map(|t| t.state()).collect();
+        laps.lap("track");
+
+        if tracking_frame == TrackingFrame::World {
+            self.occupancy
+                .integrate(pose.translation.vector, &b.obstacles_world, &b.ground_world);
+        }
+        laps.lap("occupancy");
+
+        let superframe = self.trigger.poll(frame.timestamp, &tracks).map(|sequence| {
+            let origin = self
+                .vehicle
+                .origin
+                .or_else(|| self.pose.as_ref().and_then(PoseEstimator::origin));
+            let header = SuperFrameHeader {
+                vehicle_id: &self.vehicle.id,
+                sequence,
+                timestamp: frame.timestamp,
+                ego_pose: &pose,
+                origin: origin.as_ref(),
+            };
+            let details = self.tracker.reported().zip(&tracks).map(|(t, state)| {
+                let points = t.cluster().map_or(&[][..], |j| inputs[j].points);
+                (
+                    state,
+                    ObjectDetail {
+                        covariance: t.covariance(),
+                        vfh: &t.vfh().bins,
+                        points,
+                    },
+                )
+            });
+            crate::superframe::build(&header, &self.config.superframe, details)
+        });
+        laps.lap("superframe");
+
         Ok(FrameOutput {
             index,
             timestamp: frame.timestamp,
-            ego_pose: Isometry3::identity(),
-            tracking_frame: TrackingFrame::Sensor,
-            tracks: Vec::new(),
-            superframe: None,
-            timings: StageTimings::default(),
+            ego_pose: pose,
+            tracking_frame,
+            tracks,
+            superframe,
+            timings: laps.timings,
             counts: FrameCounts {
                 points: frame.points.len(),
-                ..Default::default()
+                filtered: b.filtered.len(),
+                non_ground: b.obstacles.len(),
+                clusters: b.clustering.len(),
             },
         })
+    }
+
+    /// The scan's sensor pose in the world frame: from the OXTS packet through the pose EKF,
+    /// given, or none (identity, tracking in the sensor frame).
+    fn ego_pose(&mut self, frame: &Frame) -> Result<(Isometry3<f64>, TrackingFrame), PoseError> {
+        match &frame.ego {
+            Ego::Oxts(oxts) => {
+                let (config, vehicle) = (&self.config, &self.vehicle);
+                let estimator = self.pose.get_or_insert_with(|| {
+                    PoseEstimator::new(config.pose.clone(), vehicle.origin, vehicle.imu_to_velo)
+                });
+                Ok((
+                    estimator.update(frame.timestamp, oxts)?,
+                    TrackingFrame::World,
+                ))
+            }
+            Ego::Pose(pose) => Ok((*pose, TrackingFrame::World)),
+            Ego::None => Ok((Isometry3::identity(), TrackingFrame::Sensor)),
+        }
+    }
+
+    /// Gathers DBSCAN's clusters into `clusters`: stacked fragments of one object joined,
+    /// clusters larger than any object left to the map, clusters holding several confirmed
+    /// tracks' predicted boxes split among them.
+    fn gather_clusters(&mut self, timestamp: f64) {
+        let b = &mut self.buffers;
+        let classify = &self.config.track.classify;
+        b.bounds.clear();
+        b.grouped.clear();
+        for members in b.clustering.clusters() {
+            let start = b.grouped.len();
+            b.grouped
+                .extend(members.iter().map(|&i| b.obstacles_world[i as usize]));
+            b.bounds.push(Bounds::of(&b.grouped[start..]));
+        }
+        stacked_groups(&b.bounds, &mut b.groups);
+        // Order the members by group: a counting sort over the clusters' member lists.
+        let group_count = b.groups.iter().max().map_or(0, |g| g + 1);
+        b.group_ranges.clear();
+        b.group_ranges.resize(group_count, 0..0);
+        let mut sizes = vec![0usize; group_count];
+        for (k, members) in b.clustering.clusters().enumerate() {
+            sizes[b.groups[k]] += members.len();
+        }
+        let mut start = 0;
+        for (g, size) in sizes.iter().enumerate() {
+            b.group_ranges[g] = start..start;
+            start += size;
+        }
+        let c = &mut b.clusters;
+        c.points.clear();
+        c.points.resize(start, Point::default());
+        for (k, members) in b.clustering.clusters().enumerate() {
+            let r = &mut b.group_ranges[b.groups[k]];
+            for &i in members {
+                c.points[r.end] = b.obstacles_world[i as usize];
+                r.end += 1;
+            }
+        }
+        b.boxes.clear();
+        b.boxes.extend(self.tracker.predicted_boxes(timestamp));
+        c.ranges.clear();
+        let largest = classify.max_object_length as f32 * std::f32::consts::SQRT_2;
+        for r in &b.group_ranges {
+            let bounds = Bounds::of(&c.points[r.clone()]);
+            let too_large =
+                bounds.max[0] - bounds.min[0] > largest || bounds.max[1] - bounds.min[1] > largest;
+            if too_large {
+                continue;
+            }
+            let before = c.ranges.len();
+            if self.config.track.split_merged_clusters {
+                self.splitter
+                    .split(&mut c.points[r.clone()], &b.boxes, &mut c.ranges);
+            } else {
+                c.ranges.push(0..r.len());
+            }
+            for part in &mut c.ranges[before..] {
+                *part = r.start + part.start..r.start + part.end;
+            }
+        }
+    }
+
+    /// Computes the VFH of every gathered cluster, in parallel.
+    fn describe_clusters(&mut self, pose: &Isometry3<f64>) {
+        let b = &mut self.buffers;
+        let c = &mut b.clusters;
+        let viewpoint = pose.translation.vector;
+        let viewpoint = [viewpoint.x, viewpoint.y, viewpoint.z];
+        let config = &self.config.vfh;
+        let points = &c.points;
+        c.ranges
+            .par_iter()
+            .map_init(
+                || VfhEstimator::new(config.clone()),
+                |estimator, r| {
+                    estimator
+                        .compute(&points[r.clone()], viewpoint)
+                        .map(|vfh| (vfh, vfh.cdf()))
+                },
+            )
+            .collect_into_vec(&mut c.signatures);
+        b.described.clear();
+        b.described
+            .extend((0..c.ranges.len()).filter(|&k| c.signatures[k].is_some()));
     }
 }

@@ -5,6 +5,7 @@ use nalgebra::{Isometry3, Vector2, Vector3};
 use trackd_perception::track::{
     AssociationMode, ClusterInput, Ground, ScanContext, TrackConfig, Tracker,
 };
+use trackd_perception::vfh::{BINS, Vfh};
 use trackd_perception::{ObjectClass, Point};
 
 /// A box moving at constant velocity.
@@ -86,11 +87,9 @@ fn cyclist(start: (f64, f64), velocity: (f64, f64)) -> Body {
 }
 
 /// A uniform signature: the tests here exercise geometry and motion, not the VFH tests.
-const FLAT: [f32; 308] = [1.0 / 308.0; 308];
-
-fn flat_cdf() -> Vec<f32> {
-    (1..=308).map(|k| k as f32 / 308.0).collect()
-}
+const FLAT: Vfh = Vfh {
+    bins: [1.0 / BINS as f32; BINS],
+};
 
 /// Output of one scan: (track id, class, world centre) of each reported track.
 type Reported = Vec<(u64, ObjectClass, Vector3<f64>)>;
@@ -104,7 +103,7 @@ fn run(
     visible: impl Fn(usize, usize) -> bool,
 ) -> Vec<Reported> {
     let mut tracker = Tracker::new(config);
-    let cdf = flat_cdf();
+    let cdf = FLAT.cdf();
     let ground = Ground::horizontal(0.0);
     let mut out = Vec::new();
     for k in 0..scans {

@@ -50,9 +50,10 @@ pub struct ClassifyConfig {
     pub pole_max_footprint: f64,
     /// ...and taller than this (m). Default 2.3.
     pub pole_min_height: f64,
-    /// Trees: the upper third is this many times wider than the lower third... Default 2.0.
+    /// Trees: the upper third is this many times wider than the lower third (a crown over
+    /// its trunk; no vehicle or person is top-heavy like that)... Default 2.5.
     pub tree_spread_ratio: f64,
-    /// ...and the top is above this (m). Default 2.2.
+    /// ...and the top is above this (m). Default 1.5.
     pub tree_min_height: f64,
     /// A person's upper body (top third of the cluster) is at most this wide (m); a car's
     /// roof and rear window are wider. Default 1.0.
@@ -74,8 +75,11 @@ pub struct ClassifyConfig {
     pub static_person_min_width: f64,
     /// Highest lowest point (m) of a car: wheels are on the ground. Default 0.8.
     pub car_max_bottom: f64,
-    /// Highest top (m) of a car or van; taller needs a truck's length. Default 2.6.
+    /// Highest top (m) of a car or van; taller (trucks, buses, kiosks, hedges) is an object
+    /// only if it moves. Default 2.3.
     pub car_max_height: f64,
+    /// Widest shorter visible side (m) of a car or van. Default 2.6.
+    pub car_max_width: f64,
     /// Longest visible side (m) of a car or van; longer (trucks, buses, trams) is an object
     /// only if it moves, like a wall. Default 6.5.
     pub car_max_length: f64,
@@ -127,8 +131,8 @@ impl Default for ClassifyConfig {
             min_object_height: 1.15,
             pole_max_footprint: 0.45,
             pole_min_height: 2.3,
-            tree_spread_ratio: 2.0,
-            tree_min_height: 2.2,
+            tree_spread_ratio: 2.5,
+            tree_min_height: 1.5,
             person_max_upper_width: 1.0,
             pedestrian_max_length: 1.3,
             cyclist_max_length: 2.6,
@@ -138,7 +142,8 @@ impl Default for ClassifyConfig {
             person_min_length: 0.15,
             static_person_min_width: 0.2,
             car_max_bottom: 0.8,
-            car_max_height: 2.6,
+            car_max_height: 2.3,
+            car_max_width: 2.6,
             car_max_length: 6.5,
             static_car_min_length: 1.6,
             car_min_upper_ratio: 0.4,

@@ -11,7 +11,6 @@ pub mod confidence;
 pub mod config;
 pub mod fragments;
 pub mod ground;
-mod histogram;
 pub mod motion;
 pub mod observation;
 pub mod split;

@@ -11,10 +11,10 @@ use super::box_fit::{length_heading, place_box};
 use super::classify::{ClassVotes, ShapeVerdict};
 use super::config::{AssociationMode, TrackConfig};
 use super::ground::Ground;
-use super::histogram::{chi2_distance, max_cdf_deviation};
 use super::motion::{MotionModel, wrap_angle};
 use super::observation::{Observation, Observer};
 use super::visibility::{RangeImage, Visibility};
+use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
 
 /// A heading measurement further than this from the track's heading (rad) is an axis flip of
@@ -34,9 +34,9 @@ pub struct ClusterInput<'a> {
     /// The cluster's points in the world frame.
     pub points: &'a [Point],
     /// Its Viewpoint Feature Histogram.
-    pub vfh: &'a [f32],
+    pub vfh: &'a Vfh,
     /// The VFH's cumulative distribution.
-    pub cdf: &'a [f32],
+    pub cdf: &'a [f32; BINS],
 }
 
 /// Where and when a scan was taken.
@@ -80,8 +80,8 @@ pub struct Track {
     motion: MotionModel,
     /// Smoothed length, width, height.
     size: Vector3<f64>,
-    vfh: Vec<f32>,
-    cdf: Vec<f32>,
+    vfh: Vfh,
+    cdf: [f32; BINS],
     confidence: f32,
     age: u32,
     hits: u32,
@@ -107,7 +107,7 @@ impl Track {
     }
 
     /// The VFH of the last matched cluster.
-    pub fn vfh(&self) -> &[f32] {
+    pub fn vfh(&self) -> &Vfh {
         &self.vfh
     }
 
@@ -297,8 +297,8 @@ impl Tracker {
                 }
                 pairs.pairs.push(PairScore {
                     cluster: j,
-                    chi2: chi2_distance(&t.vfh, clusters[j].vfh),
-                    max_deviation: max_cdf_deviation(&t.cdf, clusters[j].cdf),
+                    chi2: chi_squared(&t.vfh, clusters[j].vfh),
+                    max_deviation: max_deviation(&t.cdf, clusters[j].cdf),
                     mahalanobis2,
                     nll: predicted.negative_log_likelihood(&center.xy()),
                 });
@@ -339,16 +339,15 @@ impl Tracker {
         t.motion.update(&center, yaw, &noise);
         t.motion
             .align_heading_with_velocity(config.motion.heading_from_velocity_speed);
-        t.vfh.clear();
-        t.vfh.extend_from_slice(cluster.vfh);
-        t.cdf.clear();
-        t.cdf.extend_from_slice(cluster.cdf);
+        t.vfh = *cluster.vfh;
+        t.cdf = *cluster.cdf;
         t.confidence = config.confidence.hit(t.confidence);
         t.hits += 1;
         t.misses = 0;
         t.cluster = Some(j);
         t.votes.add(o.verdict, config.classify.vote_memory);
         judge_motion(t, cluster.points, scan, config);
+        trace_view("update", t, o);
     }
 
     /// Whether unmatched cluster `j` may start a track: not structure, and not a fragment of
@@ -398,8 +397,8 @@ impl Tracker {
             id: self.next_id,
             motion: MotionModel::new(center, heading, &m.measurement_noise(range), velocity_sigma),
             size,
-            vfh: cluster.vfh.to_vec(),
-            cdf: cluster.cdf.to_vec(),
+            vfh: *cluster.vfh,
+            cdf: *cluster.cdf,
             confidence: config.confidence.initial,
             age: 1,
             hits: 1,
@@ -413,6 +412,7 @@ impl Tracker {
         });
         if let Some(t) = self.tracks.last_mut() {
             judge_motion(t, cluster.points, scan, config);
+            trace_view("birth", t, o);
         }
         self.next_id += 1;
     }
@@ -557,4 +557,31 @@ fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config:
         );
         t.probe_time = scan.timestamp;
     }
+}
+
+/// Logs what a view of track `t` showed (`TRACKD_LOG=trackd_perception::track=trace`).
+fn trace_view(event: &str, t: &Track, o: &Observation) {
+    let p = t.motion.position();
+    let f = &o.shape;
+    tracing::trace!(
+        "{event} track {} at ({:.1}, {:.1}) hits {} moving {} identity {:?} | view n {} \
+         L {:.2} W {:.2} top {:.2} bottom {:.2} upper {:.2} lower {:.2} truncated {} \
+         oblique {} -> {:?}",
+        t.id,
+        p.x,
+        p.y,
+        t.hits,
+        t.moving,
+        t.identity(),
+        o.points,
+        f.length,
+        f.width,
+        f.top,
+        f.bottom,
+        f.upper_width,
+        f.lower_width,
+        f.truncated,
+        f.oblique_face,
+        o.verdict
+    );
 }

@@ -44,7 +44,7 @@ pub struct RangeImage {
 impl RangeImage {
     /// Rebuilds the image from a scan's points in the sensor frame (ground included: it is
     /// what the laser hits after passing where an object was).
-    pub fn build(&mut self, points: &[Point]) {
+    pub fn build<'a>(&mut self, points: impl IntoIterator<Item = &'a Point>) {
         self.columns = (360.0 / AZIMUTH_STEP_DEG).round() as usize;
         self.rows = ((ELEVATION_MAX_DEG - ELEVATION_MIN_DEG) / ELEVATION_STEP_DEG).round() as usize;
         self.ranges.clear();

@@ -1,10 +1,404 @@
-//! `trackd run` (not built yet).
+//! `trackd run INPUT --out DIR`: tracks objects through a recorded drive offline and writes
+//! `tracks.csv` (Velodyne frame of each scan), KITTI tracking results (camera frame, when the
+//! drive is calibrated), the super frames, the occupancy map and per-stage timings.
+
+use std::collections::BTreeSet;
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Instant;
+
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use nalgebra::{Isometry3, Point3, Vector3};
+use prost::Message;
+use trackd_dataset::calib::RectifiedCamera;
+use trackd_dataset::labels::{KittiLabel, write_tracking_results};
+use trackd_dataset::{OpenOptions, Source, open};
+use trackd_perception::pipeline::TrackingFrame;
+use trackd_perception::track::AssociationMode;
+use trackd_perception::{FrameOutput, ObjectClass, Pipeline, PipelineError, TrackState, Vehicle};
+use trackd_service::settings::Settings;
+
+/// Header of `tracks.csv` (eval-protocol.md).
+pub const TRACKS_HEADER: &str = "frame,track_id,x,y,z,l,w,h,yaw,vx,vy,confidence,class";
+
+/// Scans read ahead of the pipeline by the reader thread.
+const READ_AHEAD: usize = 4;
 
 /// Flags of `trackd run`.
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// A recorded drive: a KITTI raw drive, a KITTI tracking or odometry folder, a folder of
+    /// .pcd or .bin scans, or one scan file (anything `trackd info` recognises).
+    pub input: PathBuf,
+    /// Sequence or drive, when the folder holds several (`0000`, `0001`).
+    #[arg(long)]
+    pub seq: Option<String>,
+    /// Ego poses in KITTI odometry format, instead of what the drive holds.
+    #[arg(long)]
+    pub poses: Option<PathBuf>,
+    /// Configuration file (`trackd.toml`; its `[perception]` and `[vehicle]` tables are used).
+    #[arg(long, env = "TRACKD_CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Output folder (created).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Association steps, overriding the configuration (the ablation): chi2, chi2_mdt,
+    /// chi2_mdt_motion, gated_assignment.
+    #[arg(long, value_parser = parse_association)]
+    pub association: Option<AssociationMode>,
+    /// Process at most this many scans.
+    #[arg(long)]
+    pub frames: Option<usize>,
+}
+
+/// Parses an association mode by its configuration name.
+fn parse_association(text: &str) -> Result<AssociationMode, String> {
+    serde_json::from_value(serde_json::Value::String(text.to_string())).map_err(|_| {
+        format!("{text:?}: expected chi2, chi2_mdt, chi2_mdt_motion or gated_assignment")
+    })
+}
 
 /// Runs `trackd run`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("trackd run: not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let settings = match &args.config {
+        Some(path) => Settings::read(path)?,
+        None => Settings::default(),
+    };
+    let mut config = settings.perception.clone();
+    if let Some(mode) = args.association {
+        config.track.association.mode = mode;
+    }
+    let source = open(
+        &args.input,
+        &OpenOptions {
+            seq: args.seq.clone(),
+            poses: args.poses.clone(),
+        },
+    )
+    .with_context(|| format!("opening {}", args.input.display()))?;
+    let frames = args.frames.map_or(source.len(), |n| n.min(source.len()));
+    if !source.has_oxts() && !source.has_poses() {
+        tracing::warn!(
+            "{}: no OXTS and no poses, tracking in the sensor frame of each scan",
+            source.name()
+        );
+    }
+    let vehicle = Vehicle {
+        id: settings.vehicle.id.clone(),
+        origin: settings.fleet.origin(),
+        imu_to_velo: source
+            .imu_to_velo()
+            .unwrap_or_else(|| settings.vehicle.imu_to_velo()),
+    };
+    let mut pipeline = Pipeline::new(config, vehicle);
+    let mut out = Outputs::create(&args.out, source.calib().is_some())?;
+    let progress = progress_bar(frames as u64);
+    let reader = spawn_reader(source.clone(), frames);
+    let started = Instant::now();
+    let mut processing = 0.0;
+    let mut ids = BTreeSet::new();
+    let mut tracking_frame = TrackingFrame::World;
+    for (i, frame) in reader.iter().enumerate() {
+        let frame = frame?;
+        let t0 = Instant::now();
+        let result = match pipeline.process(frame) {
+            Ok(result) => result,
+            // No GPS fix yet: the scan cannot be placed in the world; the next ones will.
+            Err(PipelineError::Pose(e)) => {
+                tracing::warn!("scan {i} ({}) skipped: {e}", scan_name(&source, i));
+                progress.inc(1);
+                continue;
+            }
+            Err(e) => {
+                return Err(e).with_context(|| format!("scan {i} ({})", scan_name(&source, i)));
+            }
+        };
+        processing += t0.elapsed().as_secs_f64();
+        tracking_frame = result.tracking_frame;
+        ids.extend(result.tracks.iter().map(|t| t.id));
+        out.write_frame(i, source.frame_id(i)?, &result, source.calib())?;
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    out.finish(&pipeline, &source)?;
+    let wall = started.elapsed().as_secs_f64();
+    println!(
+        "{}: {frames} scans in {wall:.2} s ({:.1} Hz end to end, {:.1} Hz in the pipeline), \
+         {} object tracks, tracked in the {} frame; wrote {}",
+        source.name(),
+        frames as f64 / wall.max(1e-9),
+        frames as f64 / processing.max(1e-9),
+        ids.len(),
+        match tracking_frame {
+            TrackingFrame::World => "world",
+            TrackingFrame::Sensor => "sensor (no pose)",
+        },
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The file name of scan `i`, for error messages.
+fn scan_name(source: &Source, i: usize) -> String {
+    source
+        .scan_path(i)
+        .map(|p| p.display().to_string())
+        .unwrap_or_default()
+}
+
+/// Reads the scans on another thread, a few ahead of the pipeline.
+fn spawn_reader(
+    source: Source,
+    frames: usize,
+) -> mpsc::Receiver<anyhow::Result<trackd_perception::Frame>> {
+    let (tx, rx) = mpsc::sync_channel(READ_AHEAD);
+    std::thread::spawn(move || {
+        for i in 0..frames {
+            let frame = source
+                .frame(i)
+                .with_context(|| format!("reading scan {i} ({})", scan_name(&source, i)));
+            let failed = frame.is_err();
+            if tx.send(frame).is_err() || failed {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// A progress bar on a terminal, nothing otherwise.
+fn progress_bar(len: u64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {pos}/{len} scans, {per_sec}, eta {eta}")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// The output files of a run.
+struct Outputs {
+    dir: PathBuf,
+    tracks: BufWriter<File>,
+    timings: BufWriter<File>,
+    timing_stages: Vec<&'static str>,
+    kitti: Option<Vec<KittiLabel>>,
+}
+
+impl Outputs {
+    /// Creates the output folder and opens the per-frame files.
+    fn create(dir: &Path, calibrated: bool) -> anyhow::Result<Self> {
+        std::fs::create_dir_all(dir.join("superframes"))
+            .with_context(|| format!("creating {}", dir.display()))?;
+        let create = |name: &str| -> anyhow::Result<BufWriter<File>> {
+            let path = dir.join(name);
+            Ok(BufWriter::new(
+                File::create(&path).with_context(|| format!("creating {}", path.display()))?,
+            ))
+        };
+        let mut tracks = create("tracks.csv")?;
+        writeln!(tracks, "{TRACKS_HEADER}")?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            tracks,
+            timings: create("timings.csv")?,
+            timing_stages: Vec::new(),
+            kitti: calibrated.then(Vec::new),
+        })
+    }
+
+    /// Writes what scan `index` (frame number `frame_id` in the recording) yielded.
+    fn write_frame(
+        &mut self,
+        index: usize,
+        frame_id: usize,
+        result: &FrameOutput,
+        camera: Option<&RectifiedCamera>,
+    ) -> anyhow::Result<()> {
+        let to_sensor = result.ego_pose.inverse();
+        for track in &result.tracks {
+            let row = SensorRow::new(track, &to_sensor);
+            if !row.is_finite() {
+                tracing::warn!(
+                    "scan {index}: track {} has a non-finite value, skipped",
+                    track.id
+                );
+                continue;
+            }
+            writeln!(
+                self.tracks,
+                "{index},{},{:.4},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{:.3},{:.3},{:.4},{}",
+                track.id,
+                row.center.x,
+                row.center.y,
+                row.center.z,
+                track.size.x,
+                track.size.y,
+                track.size.z,
+                row.yaw,
+                track.velocity.x,
+                track.velocity.y,
+                track.confidence,
+                track.class.as_str()
+            )?;
+            if let (Some(labels), Some(camera)) = (&mut self.kitti, camera)
+                && let Some(label) = kitti_label(frame_id, track, &row, camera)
+            {
+                labels.push(label);
+            }
+        }
+        self.write_timings(index, result)?;
+        if let Some(sf) = &result.superframe {
+            let path = self
+                .dir
+                .join("superframes")
+                .join(format!("{:06}.pb", sf.sequence));
+            std::fs::write(&path, sf.encode_to_vec())
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        Ok(())
+    }
+
+    /// One row of `timings.csv`: the frame, each stage's milliseconds, the total.
+    fn write_timings(&mut self, index: usize, result: &FrameOutput) -> anyhow::Result<()> {
+        let stages = &result.timings.stages;
+        if self.timing_stages.is_empty() {
+            self.timing_stages = stages.iter().map(|(name, _)| *name).collect();
+            let names: Vec<&str> = self.timing_stages.clone();
+            writeln!(self.timings, "frame,{},total", names.join(","))?;
+        }
+        let mut line = index.to_string();
+        for name in &self.timing_stages {
+            let ms = stages
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or(0.0, |(_, ms)| *ms);
+            line.push_str(&format!(",{ms:.3}"));
+        }
+        writeln!(self.timings, "{line},{:.3}", result.timings.total_ms())?;
+        Ok(())
+    }
+
+    /// Flushes the per-frame files and writes the occupancy map and the KITTI results.
+    fn finish(mut self, pipeline: &Pipeline, source: &Source) -> anyhow::Result<()> {
+        self.tracks.flush()?;
+        self.timings.flush()?;
+        let bt = self.dir.join("occupancy.bt");
+        std::fs::write(&bt, pipeline.occupancy().to_bt())
+            .with_context(|| format!("writing {}", bt.display()))?;
+        if let Some(labels) = &self.kitti {
+            let dir = self.dir.join("kitti");
+            std::fs::create_dir_all(&dir)?;
+            let path = dir.join(format!("{}.txt", source.name()));
+            write_tracking_results(&path, labels)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        Ok(())
+    }
+}
+
+/// A track's box in the Velodyne frame of its scan.
+struct SensorRow {
+    center: Vector3<f64>,
+    yaw: f64,
+}
+
+impl SensorRow {
+    fn new(track: &TrackState, to_sensor: &Isometry3<f64>) -> Self {
+        let center = (to_sensor * Point3::from(track.center)).coords;
+        let heading = to_sensor.rotation * Vector3::new(track.yaw.cos(), track.yaw.sin(), 0.0);
+        Self {
+            center,
+            yaw: heading.y.atan2(heading.x),
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        self.center.iter().all(|v| v.is_finite()) && self.yaw.is_finite()
+    }
+}
+
+/// A track as a KITTI tracking result in the rectified camera frame, `None` when its centre
+/// is behind the camera.
+fn kitti_label(
+    frame: usize,
+    track: &TrackState,
+    row: &SensorRow,
+    camera: &RectifiedCamera,
+) -> Option<KittiLabel> {
+    let (l, w, h) = (track.size.x, track.size.y, track.size.z);
+    let object_type = match track.class {
+        ObjectClass::Car => "Car",
+        ObjectClass::Cyclist => "Cyclist",
+        ObjectClass::Pedestrian => "Pedestrian",
+        ObjectClass::OtherMovable | ObjectClass::Unknown => "Misc",
+    };
+    let bottom = camera.velo_to_cam(&(row.center - Vector3::new(0.0, 0.0, h / 2.0)));
+    if bottom.z <= 0.0 {
+        return None;
+    }
+    // Heading in the camera frame: KITTI's rotation_y turns the object's x axis about -y.
+    let origin = camera.velo_to_cam(&Vector3::zeros());
+    let ahead = camera.velo_to_cam(&Vector3::new(row.yaw.cos(), row.yaw.sin(), 0.0)) - origin;
+    let rotation_y = (-ahead.z).atan2(ahead.x);
+    let alpha = wrap(rotation_y - bottom.x.atan2(bottom.z));
+    let (c, s) = (row.yaw.cos(), row.yaw.sin());
+    let mut bbox = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for (a, b, z) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+        .into_iter()
+        .flat_map(|(a, b)| [(a, b, -1.0), (a, b, 1.0)])
+    {
+        let corner = row.center
+            + Vector3::new(
+                c * a * l / 2.0 - s * b * w / 2.0,
+                s * a * l / 2.0 + c * b * w / 2.0,
+                z * h / 2.0,
+            );
+        if let Some([u, v]) = camera.project(&camera.velo_to_cam(&corner)) {
+            bbox = [
+                bbox[0].min(u),
+                bbox[1].min(v),
+                bbox[2].max(u),
+                bbox[3].max(v),
+            ];
+        }
+    }
+    if bbox[0] > bbox[2] {
+        return None;
+    }
+    let bbox = [
+        bbox[0].clamp(0.0, 1241.0),
+        bbox[1].clamp(0.0, 374.0),
+        bbox[2].clamp(0.0, 1241.0),
+        bbox[3].clamp(0.0, 374.0),
+    ];
+    Some(KittiLabel {
+        frame,
+        track_id: track.id as i64,
+        object_type: object_type.to_string(),
+        truncated: 0.0,
+        occluded: 0,
+        alpha,
+        bbox,
+        h,
+        w,
+        l,
+        x: bottom.x,
+        y: bottom.y,
+        z: bottom.z,
+        rotation_y: wrap(rotation_y),
+        score: Some(f64::from(track.confidence)),
+    })
+}
+
+/// An angle wrapped into (−π, π].
+fn wrap(a: f64) -> f64 {
+    trackd_perception::track::motion::wrap_angle(a)
 }
