@@ -26,6 +26,9 @@ use crate::{
     pca::{Moments, cross, dot, normalized, smallest_eigenvector},
 };
 
+/// Most points a zone's fit looks at: denser zones (near the sensor) are strided evenly.
+const MAX_FIT_POINTS: usize = 2048;
+
 /// One ring of the zone model.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -53,7 +56,8 @@ pub struct GroundConfig {
     /// Default 0.999.
     pub confidence: f64,
     /// Most candidate points a RANSAC hypothesis is scored on (a deterministic subsample);
-    /// the least-squares refit uses all of them. Default 256.
+    /// the least-squares refit uses all candidates (at most 2048 per zone, evenly strided).
+    /// Default 256.
     pub sample_size: usize,
     /// Seed of the RANSAC samples. Default 0x5eed.
     pub seed: u64,
@@ -169,9 +173,10 @@ pub struct GroundRemoval {
     /// Per input point: its zone and horizontal range.
     zone_of: Vec<u32>,
     range_of: Vec<f32>,
-    /// Points of zone `z`: `by_zone[zone_start[z]..zone_start[z + 1]]`.
+    /// Positions of the points of zone `z`: `by_zone[zone_start[z]..zone_start[z + 1]]`
+    /// (copies, so that a zone's points are read in one sweep).
     zone_start: Vec<u32>,
-    by_zone: Vec<u32>,
+    by_zone: Vec<[f32; 3]>,
     /// Per zone: its plane after the fit.
     zone_plane: Vec<Plane>,
     /// Scratch: candidate points of one fit, and the subsample hypotheses are scored on.
@@ -180,9 +185,12 @@ pub struct GroundRemoval {
     /// Scratch: counting-sort cursors and ground flags.
     cursor: Vec<u32>,
     ground: Vec<bool>,
-    /// Scratch: each point's height above its zone plane, and the obstacle columns.
-    height: Vec<f32>,
+    /// Scratch: the zone planes in f32, each point's column of the obstacle-base test, the
+    /// columns holding an obstacle, and the (x, y) bounds of the finite points.
+    plane32: Vec<[f32; 4]>,
+    column_of: Vec<u32>,
     obstacle_column: Vec<bool>,
+    bounds: [f32; 4],
 }
 
 impl Default for GroundRemoval {
@@ -242,8 +250,10 @@ impl GroundRemoval {
             sample: Vec::new(),
             cursor: Vec::new(),
             ground: Vec::new(),
-            height: Vec::new(),
+            plane32: Vec::new(),
+            column_of: Vec::new(),
             obstacle_column: Vec::new(),
+            bounds: [0.0; 4],
         }
     }
 
@@ -280,65 +290,73 @@ impl GroundRemoval {
     pub fn segment(&mut self, points: &[Point], is_ground: &mut Vec<bool>) -> Plane {
         self.assign_zones(points);
         let near = self.fit_near_plane(points);
-        self.fit_zones(points, near);
+        self.fit_zones(near);
 
-        let config = &self.config;
-        self.height.clear();
-        self.height
-            .extend(points.iter().zip(&self.zone_of).map(|(p, &zone)| {
-                if zone == u32::MAX {
-                    f32::NEG_INFINITY
-                } else {
-                    self.zone_plane[zone as usize].height(widen(p)) as f32
-                }
-            }));
-        is_ground.clear();
-        is_ground.extend(
-            self.height
-                .iter()
-                .zip(&self.range_of)
-                .map(|(&h, &r)| h <= config.distance_threshold + config.threshold_growth * r),
-        );
-        self.keep_obstacle_bases(points, is_ground);
+        self.classify(points, is_ground);
         near
     }
 
-    /// Turns back to non-ground the low points of columns that hold an obstacle rising from
-    /// the ground (see [`GroundConfig::base_cell`]).
-    fn keep_obstacle_bases(&mut self, points: &[Point], is_ground: &mut [bool]) {
-        let [band_lo, band_hi] = self.config.base_band;
-        let cell = self.config.base_cell;
-        if !(cell > 0.0 && cell.is_finite()) {
-            return;
-        }
-        let mut lo = [f32::INFINITY; 2];
-        let mut hi = [f32::NEG_INFINITY; 2];
-        for p in points.iter().filter(|p| p.is_finite()) {
-            lo = [lo[0].min(p.x), lo[1].min(p.y)];
-            hi = [hi[0].max(p.x), hi[1].max(p.y)];
-        }
-        if lo[0] > hi[0] {
-            return;
-        }
-        // At most 4096 columns a side: wider clouds get wider columns.
-        let side = cell.max((hi[0] - lo[0]).max(hi[1] - lo[1]) / 4096.0);
-        let nx = ((hi[0] - lo[0]) / side) as usize + 1;
-        let ny = ((hi[1] - lo[1]) / side) as usize + 1;
-        let column = |p: &Point| {
-            let cx = (((p.x - lo[0]) / side) as usize).min(nx - 1);
-            let cy = (((p.y - lo[1]) / side) as usize).min(ny - 1);
-            cx * ny + cy
+    /// Marks ground: at most `distance_threshold + threshold_growth · range` above the zone's
+    /// plane, and not the base of an obstacle (see [`GroundConfig::base_cell`]).
+    fn classify(&mut self, points: &[Point], is_ground: &mut Vec<bool>) {
+        let config = &self.config;
+        // Zone planes in f32 (sensor-frame coordinates are small).
+        self.plane32.clear();
+        self.plane32.extend(self.zone_plane.iter().map(|p| {
+            [
+                p.normal[0] as f32,
+                p.normal[1] as f32,
+                p.normal[2] as f32,
+                p.offset as f32,
+            ]
+        }));
+        // Columns of the obstacle-base test: at most 4096 a side, wider clouds get wider ones.
+        let [min_x, min_y, max_x, max_y] = self.bounds;
+        let cell = config.base_cell;
+        let base_test = cell > 0.0 && cell.is_finite() && min_x <= max_x;
+        let (side, ny) = if base_test {
+            let side = cell.max((max_x - min_x).max(max_y - min_y) / 4096.0);
+            (side, ((max_y - min_y) / side) as usize + 1)
+        } else {
+            (1.0, 1)
         };
+        let nx = if base_test {
+            ((max_x - min_x) / side) as usize + 1
+        } else {
+            1
+        };
+        let inv = 1.0 / side;
+        let [band_lo, band_hi] = config.base_band;
         self.obstacle_column.clear();
         self.obstacle_column.resize(nx * ny, false);
-        for (p, &h) in points.iter().zip(&self.height) {
-            if h >= band_lo && h <= band_hi && p.is_finite() {
-                self.obstacle_column[column(p)] = true;
+        self.column_of.clear();
+        is_ground.clear();
+        for ((p, &zone), &range) in points.iter().zip(&self.zone_of).zip(&self.range_of) {
+            if zone == u32::MAX {
+                self.column_of.push(u32::MAX);
+                is_ground.push(true);
+                continue;
+            }
+            let [a, b, c, d] = self.plane32[zone as usize];
+            let h = a * p.x + b * p.y + c * p.z + d;
+            is_ground.push(h <= config.distance_threshold + config.threshold_growth * range);
+            let column = if base_test {
+                let cx = (((p.x - min_x) * inv) as usize).min(nx - 1);
+                let cy = (((p.y - min_y) * inv) as usize).min(ny - 1);
+                cx * ny + cy
+            } else {
+                0
+            };
+            self.column_of.push(column as u32);
+            if base_test && h >= band_lo && h <= band_hi {
+                self.obstacle_column[column] = true;
             }
         }
-        for ((p, g), &h) in points.iter().zip(is_ground.iter_mut()).zip(&self.height) {
-            if *g && h.is_finite() && self.obstacle_column[column(p)] {
-                *g = false;
+        if base_test {
+            for (g, &column) in is_ground.iter_mut().zip(&self.column_of) {
+                if *g && column != u32::MAX && self.obstacle_column[column as usize] {
+                    *g = false;
+                }
             }
         }
     }
@@ -351,6 +369,12 @@ impl GroundRemoval {
         self.range_of.clear();
         self.zone_start.clear();
         self.zone_start.resize(zones + 1, 0);
+        self.bounds = [
+            f32::INFINITY,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+        ];
         for p in points {
             if !p.is_finite() {
                 self.zone_of.push(u32::MAX);
@@ -363,6 +387,12 @@ impl GroundRemoval {
                 .position(|r| range < r.outer)
                 .unwrap_or(rings.len() - 1);
             let sector = sector_of(p.y, p.x, rings[ring].sectors);
+            self.bounds = [
+                self.bounds[0].min(p.x),
+                self.bounds[1].min(p.y),
+                self.bounds[2].max(p.x),
+                self.bounds[3].max(p.y),
+            ];
             let zone = self.first_zone[ring] + sector;
             self.zone_of.push(zone as u32);
             self.range_of.push(range);
@@ -372,13 +402,14 @@ impl GroundRemoval {
             self.zone_start[z + 1] += self.zone_start[z];
         }
         self.by_zone.clear();
-        self.by_zone.resize(self.zone_start[zones] as usize, 0);
+        self.by_zone
+            .resize(self.zone_start[zones] as usize, [0.0; 3]);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.zone_start[..zones]);
-        for (i, &zone) in self.zone_of.iter().enumerate() {
+        for (p, &zone) in points.iter().zip(&self.zone_of) {
             if zone != u32::MAX {
                 let slot = &mut self.cursor[zone as usize];
-                self.by_zone[*slot as usize] = i as u32;
+                self.by_zone[*slot as usize] = p.xyz();
                 *slot += 1;
             }
         }
@@ -387,11 +418,14 @@ impl GroundRemoval {
     /// RANSAC on the points of the near band: the prior of the first ring.
     fn fit_near_plane(&mut self, points: &[Point]) -> Plane {
         let [lo, hi] = self.config.near_band;
+        // The band holds half the scan; an evenly strided share is plenty for one plane.
+        let stride = points.len().div_ceil(4 * MAX_FIT_POINTS).max(1);
         self.candidates.clear();
         self.candidates.extend(
             points
                 .iter()
                 .zip(&self.range_of)
+                .step_by(stride)
                 .filter(|&(p, &r)| p.is_finite() && r >= lo && r <= hi)
                 .map(|(p, _)| widen(p)),
         );
@@ -404,7 +438,7 @@ impl GroundRemoval {
     }
 
     /// Fits every zone, ring by ring outwards, each from the plane of the zone inside it.
-    fn fit_zones(&mut self, points: &[Point], near: Plane) {
+    fn fit_zones(&mut self, near: Plane) {
         self.zone_plane.clear();
         let (band_above, band_below) =
             (self.config.band_above as f64, self.config.band_below as f64);
@@ -429,8 +463,9 @@ impl GroundRemoval {
                 };
                 self.candidates.clear();
                 let members = self.zone_start[zone] as usize..self.zone_start[zone + 1] as usize;
-                for &i in &self.by_zone[members] {
-                    let p = widen(&points[i as usize]);
+                let stride = members.len().div_ceil(MAX_FIT_POINTS).max(1);
+                for q in self.by_zone[members].iter().step_by(stride) {
+                    let p = q.map(f64::from);
                     let h = prior.height(p);
                     if h <= band_above && h >= -band_below {
                         self.candidates.push(p);
@@ -544,8 +579,8 @@ fn iterations_needed(ratio: f64, confidence: f64, max: usize) -> usize {
 
 /// The azimuth sector of (x, y) among `sectors` equal sectors, sector 0 starting at -π.
 fn sector_of(y: f32, x: f32, sectors: usize) -> usize {
-    let angle = fast_atan2(y, x) as f64;
-    let s = ((angle + std::f64::consts::PI) / std::f64::consts::TAU * sectors as f64) as usize;
+    use std::f32::consts::{PI, TAU};
+    let s = ((fast_atan2(y, x) + PI) * (sectors as f32 / TAU)) as usize;
     s.min(sectors - 1)
 }
 
