@@ -72,8 +72,14 @@ echo 'hosts: files dns' >"$rootfs/etc/nsswitch.conf"
 cp "$repo/docker/Dockerfile" "$context/Dockerfile"
 commit=$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)
 echo "build-image: $tag from $profile_dir (commit $commit, $(du -sh "$rootfs" | cut -f1) rootfs, ${#libraries[@]} libraries: ${libraries[*]})"
+previous=$(docker image inspect --format '{{.Id}}' "$tag" 2>/dev/null || true)
 docker build --quiet \
     --label "org.opencontainers.image.title=trackd" \
     --label "org.opencontainers.image.revision=$commit" \
     --label "trackd.profile-dir=$(basename "$profile_dir")" \
     --tag "$tag" "$context"
+# The image this tag named before, now untagged: removed unless something still uses it.
+current=$(docker image inspect --format '{{.Id}}' "$tag")
+if [[ -n $previous && $previous != "$current" ]]; then
+    docker image rm "$previous" >/dev/null 2>&1 || true
+fi
