@@ -288,6 +288,24 @@ async fn reads_stream_and_documents_the_api() {
     assert_eq!(client.tracks().await.expect("tracks").frame, Some(0));
     assert_eq!(client.health().await.expect("health").frames, 1);
 
+    // The occupancy map: an OctoMap .bt download and a BEV grid around the vehicle.
+    let bt = client.occupancy_bt().await.expect("occupancy .bt");
+    let header = String::from_utf8_lossy(&bt[..bt.len().min(200)]).into_owned();
+    assert!(
+        header.starts_with("# Octomap OcTree binary file") && header.contains("\nres 0.25\n"),
+        "not an OctoMap .bt header: {header:?}"
+    );
+    let grid: api::BevGrid = reqwest::Client::new()
+        .get(format!("{url}/v1/occupancy?format=grid&half_extent=20"))
+        .send()
+        .await
+        .expect("request")
+        .json()
+        .await
+        .expect("grid JSON");
+    assert!(grid.width > 0 && grid.height > 0);
+    assert_eq!(grid.cells.len(), grid.width * grid.height);
+
     // No super frame yet: 404 in both representations.
     let http = reqwest::Client::new();
     let r = http

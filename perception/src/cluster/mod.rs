@@ -138,14 +138,18 @@ impl Clustering {
         }
         self.members.clear();
         self.members.resize(self.offsets[count] as usize, 0);
-        let mut cursor = self.offsets[..count].to_vec();
+        // offsets[k] serves as cluster k's write cursor, then is shifted back.
         for (i, &label) in self.labels.iter().enumerate() {
             if label >= 0 {
-                let slot = &mut cursor[label as usize];
+                let slot = &mut self.offsets[label as usize];
                 self.members[*slot as usize] = i as u32;
                 *slot += 1;
             }
         }
+        for k in (1..=count).rev() {
+            self.offsets[k] = self.offsets[k - 1];
+        }
+        self.offsets[0] = 0;
     }
 }
 

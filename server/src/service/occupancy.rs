@@ -2,26 +2,15 @@
 //! copy, so a read waits at most for the frame in progress).
 
 use trackd_client::api;
-use trackd_perception::{Pipeline, occupancy::OccupancyMap};
+use trackd_perception::occupancy::OccupancyMap;
 
 use super::state::{AppState, lock};
 
-/// Why no map can be given.
+/// Why no map can be given: the blocking read of the map failed (it panicked or was
+/// cancelled at shutdown).
 #[derive(Debug, thiserror::Error)]
-pub enum Unavailable {
-    /// The pipeline has no occupancy map to share yet.
-    #[error("this build's pipeline does not expose its occupancy map yet")]
-    NotWired,
-    /// The blocking read failed.
-    #[error("reading the occupancy map failed: {0}")]
-    Failed(String),
-}
-
-/// The map of `pipeline`. `Pipeline::occupancy` is not part of the pipeline's API yet; this is
-/// the one call to connect when it lands.
-fn map_of(_pipeline: &Pipeline) -> Option<&OccupancyMap> {
-    None
-}
+#[error("reading the occupancy map failed: {0}")]
+pub struct Unavailable(String);
 
 async fn with_map<T: Send + 'static>(
     state: &AppState,
@@ -30,11 +19,10 @@ async fn with_map<T: Send + 'static>(
     let pipeline = state.pipeline.clone();
     tokio::task::spawn_blocking(move || {
         let guard = lock(&pipeline);
-        map_of(&guard).map(read)
+        read(guard.occupancy())
     })
     .await
-    .map_err(|e| Unavailable::Failed(e.to_string()))?
-    .ok_or(Unavailable::NotWired)
+    .map_err(|e| Unavailable(e.to_string()))
 }
 
 /// The map as an OctoMap `.bt` file.

@@ -26,10 +26,7 @@ pub struct OccupancyQuery {
 }
 
 fn unavailable(e: Unavailable) -> HttpError {
-    match e {
-        Unavailable::NotWired => HttpError::new(StatusCode::NOT_IMPLEMENTED, e.to_string()),
-        Unavailable::Failed(_) => HttpError::new(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()),
-    }
+    HttpError::new(StatusCode::INTERNAL_SERVER_ERROR, e.to_string())
 }
 
 /// The occupancy map.
@@ -41,7 +38,7 @@ fn unavailable(e: Unavailable) -> HttpError {
         (status = 200, description = "OctoMap .bt (application/x-octomap-bt), or a grid as JSON",
             body = api::BevGrid),
         (status = 400, description = "Bad parameters", body = api::ApiError),
-        (status = 501, description = "No occupancy map in this build", body = api::ApiError),
+        (status = 500, description = "The map could not be read", body = api::ApiError),
     )
 )]
 pub async fn get(
