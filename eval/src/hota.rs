@@ -220,24 +220,10 @@ fn summarise(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::prepare::{ScoredHypothesis, ScoredObject};
+    use crate::prepare::frame_on_x_axis;
 
     fn frame(objects: &[(u64, f64)], hypotheses: &[(u64, f64)]) -> ScoredFrame {
-        ScoredFrame {
-            frame: 0,
-            objects: objects
-                .iter()
-                .map(|&(id, x)| ScoredObject {
-                    id,
-                    xy: [x, 0.0],
-                    threshold: 2.0,
-                })
-                .collect(),
-            hypotheses: hypotheses
-                .iter()
-                .map(|&(id, x)| ScoredHypothesis { id, xy: [x, 0.0] })
-                .collect(),
-        }
+        frame_on_x_axis(0, objects, hypotheses)
     }
 
     #[test]

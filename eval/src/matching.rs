@@ -145,25 +145,7 @@ fn match_frame(frame: &ScoredFrame, last_hypothesis: &mut HashMap<u64, u64>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::prepare::{ScoredHypothesis, ScoredObject};
-
-    fn frame(frame: u32, objects: &[(u64, f64)], hypotheses: &[(u64, f64)]) -> ScoredFrame {
-        ScoredFrame {
-            frame,
-            objects: objects
-                .iter()
-                .map(|&(id, x)| ScoredObject {
-                    id,
-                    xy: [x, 0.0],
-                    threshold: 2.0,
-                })
-                .collect(),
-            hypotheses: hypotheses
-                .iter()
-                .map(|&(id, x)| ScoredHypothesis { id, xy: [x, 0.0] })
-                .collect(),
-        }
-    }
+    use crate::prepare::frame_on_x_axis as frame;
 
     fn kinds(events: &FrameEvents) -> Vec<&'static str> {
         let mut kinds: Vec<_> = events

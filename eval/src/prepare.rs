@@ -209,6 +209,31 @@ fn drop_paired_with_dont_care(
         .collect()
 }
 
+/// Test data: a frame of objects and hypotheses on the x axis, given as (id, x), every object
+/// matched within 2 m.
+#[cfg(test)]
+pub(crate) fn frame_on_x_axis(
+    frame: u32,
+    objects: &[(u64, f64)],
+    hypotheses: &[(u64, f64)],
+) -> ScoredFrame {
+    ScoredFrame {
+        frame,
+        objects: objects
+            .iter()
+            .map(|&(id, x)| ScoredObject {
+                id,
+                xy: [x, 0.0],
+                threshold: 2.0,
+            })
+            .collect(),
+        hypotheses: hypotheses
+            .iter()
+            .map(|&(id, x)| ScoredHypothesis { id, xy: [x, 0.0] })
+            .collect(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

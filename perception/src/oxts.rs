@@ -133,79 +133,56 @@ impl Oxts {
     }
 }
 
-impl From<&trackd_proto::Oxts> for Oxts {
-    fn from(o: &trackd_proto::Oxts) -> Self {
-        Self {
-            lat: o.lat,
-            lon: o.lon,
-            alt: o.alt,
-            roll: o.roll,
-            pitch: o.pitch,
-            yaw: o.yaw,
-            vn: o.vn,
-            ve: o.ve,
-            vf: o.vf,
-            vl: o.vl,
-            vu: o.vu,
-            ax: o.ax,
-            ay: o.ay,
-            az: o.az,
-            af: o.af,
-            al: o.al,
-            au: o.au,
-            wx: o.wx,
-            wy: o.wy,
-            wz: o.wz,
-            wf: o.wf,
-            wl: o.wl,
-            wu: o.wu,
-            pos_accuracy: o.pos_accuracy,
-            vel_accuracy: o.vel_accuracy,
-            navstat: o.navstat,
-            numsats: o.numsats,
-            posmode: o.posmode,
-            velmode: o.velmode,
-            orimode: o.orimode,
+/// Conversions both ways between the packet and its protobuf message, which have the same
+/// 30 fields.
+macro_rules! convert_fields {
+    ($($field:ident),* $(,)?) => {
+        impl From<&trackd_proto::Oxts> for Oxts {
+            fn from(o: &trackd_proto::Oxts) -> Self {
+                Self { $($field: o.$field),* }
+            }
         }
-    }
+
+        impl From<&Oxts> for trackd_proto::Oxts {
+            fn from(o: &Oxts) -> Self {
+                Self { $($field: o.$field),* }
+            }
+        }
+    };
 }
 
-impl From<&Oxts> for trackd_proto::Oxts {
-    fn from(o: &Oxts) -> Self {
-        Self {
-            lat: o.lat,
-            lon: o.lon,
-            alt: o.alt,
-            roll: o.roll,
-            pitch: o.pitch,
-            yaw: o.yaw,
-            vn: o.vn,
-            ve: o.ve,
-            vf: o.vf,
-            vl: o.vl,
-            vu: o.vu,
-            ax: o.ax,
-            ay: o.ay,
-            az: o.az,
-            af: o.af,
-            al: o.al,
-            au: o.au,
-            wx: o.wx,
-            wy: o.wy,
-            wz: o.wz,
-            wf: o.wf,
-            wl: o.wl,
-            wu: o.wu,
-            pos_accuracy: o.pos_accuracy,
-            vel_accuracy: o.vel_accuracy,
-            navstat: o.navstat,
-            numsats: o.numsats,
-            posmode: o.posmode,
-            velmode: o.velmode,
-            orimode: o.orimode,
-        }
-    }
-}
+convert_fields!(
+    lat,
+    lon,
+    alt,
+    roll,
+    pitch,
+    yaw,
+    vn,
+    ve,
+    vf,
+    vl,
+    vu,
+    ax,
+    ay,
+    az,
+    af,
+    al,
+    au,
+    wx,
+    wy,
+    wz,
+    wf,
+    wl,
+    wu,
+    pos_accuracy,
+    vel_accuracy,
+    navstat,
+    numsats,
+    posmode,
+    velmode,
+    orimode,
+);
 
 #[cfg(test)]
 mod tests {
