@@ -21,7 +21,7 @@ const OWNERLESS_DISTANCE: f64 = 1.0;
 /// Reusable buffers of the split.
 #[derive(Debug, Default)]
 pub struct Splitter {
-    claimants: Vec<usize>,
+    claimants: Vec<BoxFrame>,
     owner: Vec<u32>,
     scratch: Vec<Point>,
     counts: Vec<usize>,
@@ -38,14 +38,19 @@ impl Splitter {
         parts: &mut Vec<Range<usize>>,
     ) -> usize {
         self.claimants.clear();
-        for (b, bx) in boxes.iter().enumerate() {
+        let bounds = bev_bounds(points);
+        for bx in boxes {
+            let bx = BoxFrame::new(bx);
+            if !bounds.is_some_and(|b| bx.may_reach(&b, CLAIM_MARGIN)) {
+                continue;
+            }
             let inside = points
                 .iter()
-                .filter(|p| outside_distance(bx, p) <= CLAIM_MARGIN)
+                .filter(|p| bx.outside_distance(p) <= CLAIM_MARGIN)
                 .take(MIN_CLAIMED_POINTS)
                 .count();
             if inside >= MIN_CLAIMED_POINTS {
-                self.claimants.push(b);
+                self.claimants.push(bx);
             }
         }
         if self.claimants.len() < 2 {
@@ -58,10 +63,9 @@ impl Splitter {
         self.owner.clear();
         for p in points.iter() {
             let mut best = (f64::INFINITY, f64::INFINITY, ownerless);
-            for (slot, &b) in self.claimants.iter().enumerate() {
-                let bx = &boxes[b];
-                let d = outside_distance(bx, p);
-                let c = normalised_centre_distance(bx, p);
+            for (slot, bx) in self.claimants.iter().enumerate() {
+                let d = bx.outside_distance(p);
+                let c = bx.normalised_centre_distance(p);
                 if d <= OWNERLESS_DISTANCE && (d, c) < (best.0, best.1) {
                     best = (d, c, slot as u32);
                 }
@@ -96,25 +100,73 @@ impl Splitter {
     }
 }
 
-/// The point in the box's frame.
-fn local(bx: &PredictedBox, p: &Point) -> Vector2<f64> {
-    let d = Vector2::new(p.x as f64, p.y as f64) - bx.center;
-    let (s, c) = bx.heading.sin_cos();
-    Vector2::new(c * d.x + s * d.y, -s * d.x + c * d.y)
+/// The ground-plane bounds `[min_x, min_y, max_x, max_y]` of `points`; `None` when empty.
+fn bev_bounds(points: &[Point]) -> Option<[f64; 4]> {
+    let first = points.first()?;
+    let mut b = [first.x, first.y, first.x, first.y];
+    for p in points {
+        b = [b[0].min(p.x), b[1].min(p.y), b[2].max(p.x), b[3].max(p.y)];
+    }
+    Some(b.map(f64::from))
 }
 
-/// Distance (m, ground plane) from `p` to the box; 0 inside.
-fn outside_distance(bx: &PredictedBox, p: &Point) -> f64 {
-    let q = local(bx, p);
-    let dx = (q.x.abs() - bx.size.x / 2.0).max(0.0);
-    let dy = (q.y.abs() - bx.size.y / 2.0).max(0.0);
-    dx.hypot(dy)
+/// A predicted box with its heading's sine and cosine worked out once.
+#[derive(Debug)]
+struct BoxFrame {
+    center: Vector2<f64>,
+    half: Vector2<f64>,
+    sin: f64,
+    cos: f64,
 }
 
-/// Distance from the box centre in units of the half extents.
-fn normalised_centre_distance(bx: &PredictedBox, p: &Point) -> f64 {
-    let q = local(bx, p);
-    (q.x / (bx.size.x / 2.0).max(0.1)).hypot(q.y / (bx.size.y / 2.0).max(0.1))
+impl BoxFrame {
+    fn new(bx: &PredictedBox) -> Self {
+        let (sin, cos) = bx.heading.sin_cos();
+        Self {
+            center: bx.center,
+            half: bx.size / 2.0,
+            sin,
+            cos,
+        }
+    }
+
+    /// Whether any point within `margin` of the box can lie in `bounds`: the box's enclosing
+    /// circle, grown by `margin`, meets them.
+    fn may_reach(&self, bounds: &[f64; 4], margin: f64) -> bool {
+        let reach = self.half.norm() + margin;
+        let dx = (bounds[0] - self.center.x)
+            .max(self.center.x - bounds[2])
+            .max(0.0);
+        let dy = (bounds[1] - self.center.y)
+            .max(self.center.y - bounds[3])
+            .max(0.0);
+        dx * dx + dy * dy <= reach * reach
+    }
+
+    /// The point in the box's frame.
+    fn local(&self, p: &Point) -> Vector2<f64> {
+        let d = Vector2::new(p.x as f64, p.y as f64) - self.center;
+        Vector2::new(
+            self.cos * d.x + self.sin * d.y,
+            -self.sin * d.x + self.cos * d.y,
+        )
+    }
+
+    /// Distance (m, ground plane) from `p` to the box; 0 inside.
+    fn outside_distance(&self, p: &Point) -> f64 {
+        let q = self.local(p);
+        let dx = (q.x.abs() - self.half.x).max(0.0);
+        let dy = (q.y.abs() - self.half.y).max(0.0);
+        (dx * dx + dy * dy).sqrt()
+    }
+
+    /// Distance from the box centre in units of the half extents.
+    fn normalised_centre_distance(&self, p: &Point) -> f64 {
+        let q = self.local(p);
+        let u = q.x / self.half.x.max(0.1);
+        let v = q.y / self.half.y.max(0.1);
+        (u * u + v * v).sqrt()
+    }
 }
 
 #[cfg(test)]
