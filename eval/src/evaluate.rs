@@ -2,12 +2,13 @@
 
 use crate::{
     clear_mot::clear_mot,
+    events_csv::events_csv,
     config::EvalConfig,
     gt::GroundTruth,
     hota::hota,
     idf1::identity,
-    matching::match_frames,
-    prepare::prepare,
+    matching::{FrameEvents, match_frames},
+    prepare::{ScoredFrame, prepare},
     report::{GtCounts, Metrics},
     tracks_csv::TrackRow,
 };
@@ -15,16 +16,37 @@ use crate::{
 /// Scores `tracks` against `gt` (eval-protocol.md): hypotheses outside the labelled view or
 /// excused by the ignore rules leave the scoring; the rest are matched on BEV centre distance.
 pub fn evaluate(gt: &GroundTruth, tracks: &[TrackRow], config: &EvalConfig) -> Metrics {
+    score(gt, tracks, config).0
+}
+
+/// [`evaluate`], and every frame's matches, misses and false positives as CSV
+/// ([`crate::events_csv`]).
+pub fn evaluate_with_events(
+    gt: &GroundTruth,
+    tracks: &[TrackRow],
+    config: &EvalConfig,
+) -> (Metrics, String) {
+    let (metrics, frames, events) = score(gt, tracks, config);
+    (metrics, events_csv(&frames, &events))
+}
+
+/// The metrics, the scored frames and their events.
+fn score(
+    gt: &GroundTruth,
+    tracks: &[TrackRow],
+    config: &EvalConfig,
+) -> (Metrics, Vec<ScoredFrame>, Vec<FrameEvents>) {
     let (frames, excused) = prepare(gt, tracks, config);
     let events = match_frames(&frames);
-    Metrics {
+    let metrics = Metrics {
         clear: clear_mot(&events),
         identity: identity(&frames),
         hota: hota(&frames),
         ground_truth: GtCounts::of(gt),
         hypotheses_excused: excused,
         config: *config,
-    }
+    };
+    (metrics, frames, events)
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ pub mod config;
 mod csv;
 pub mod error;
 pub mod evaluate;
+pub mod events_csv;
 pub mod gt;
 pub mod hota;
 pub mod idf1;
@@ -31,7 +32,7 @@ pub mod view;
 
 pub use config::EvalConfig;
 pub use error::EvalError;
-pub use evaluate::evaluate;
+pub use evaluate::{evaluate, evaluate_with_events};
 pub use gt::{GroundTruth, GtFrame, GtObject};
 pub use report::Metrics;
 pub use tracks_csv::{TrackRow, read_tracks_csv};

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use trackd_eval::{
-    EvalConfig, GroundTruth, evaluate,
+    EvalConfig, GroundTruth, evaluate_with_events,
     gt::{
         kitti::{KittiRules, KittiTrackingFiles, read_kitti_tracking_ground_truth},
         sim::{SimRules, read_sim_ground_truth},
@@ -52,6 +52,10 @@ pub struct Args {
     /// Where to write the metrics as JSON [default: metrics.json beside --tracks].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also write every frame's matches, misses and false positives, with positions, as CSV
+    /// (`frame,event,gt_id,track_id,distance,gt_x,gt_y,track_x,track_y`).
+    #[arg(long)]
+    events: Option<PathBuf>,
 }
 
 /// The ground-truth formats `--gt` can name.
@@ -92,8 +96,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     let gt = load_gt(&args)?;
     let tracks = read_tracks_csv(&args.tracks)?;
-    let metrics = evaluate(&gt, &tracks, &config);
+    let (metrics, events) = evaluate_with_events(&gt, &tracks, &config);
     print!("{}", metrics.table());
+    if let Some(path) = &args.events {
+        std::fs::write(path, events).with_context(|| format!("writing {}", path.display()))?;
+        tracing::info!("events written to {}", path.display());
+    }
     let out = args
         .out
         .unwrap_or_else(|| args.tracks.with_file_name("metrics.json"));
