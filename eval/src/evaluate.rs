@@ -2,8 +2,8 @@
 
 use crate::{
     clear_mot::clear_mot,
-    events_csv::events_csv,
     config::EvalConfig,
+    events_csv::events_csv,
     gt::GroundTruth,
     hota::hota,
     idf1::identity,

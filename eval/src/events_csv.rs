@@ -67,7 +67,10 @@ mod tests {
         let rows: Vec<&str> = csv.lines().collect();
         assert_eq!(rows[0], HEADER);
         assert_eq!(rows.len(), 4, "{csv}");
-        assert!(rows.contains(&"0,match,1,10,0.500,0.000,0.000,0.500,0.000"), "{csv}");
+        assert!(
+            rows.contains(&"0,match,1,10,0.500,0.000,0.000,0.500,0.000"),
+            "{csv}"
+        );
         assert!(rows.contains(&"0,miss,2,,,10.000,0.000,,"), "{csv}");
         assert!(rows.contains(&"0,fp,,11,,,,30.000,0.000"), "{csv}");
     }

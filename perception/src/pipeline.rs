@@ -5,7 +5,7 @@
 use std::ops::Range;
 use std::time::Instant;
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Translation3, Vector3};
 use rayon::prelude::*;
 use thiserror::Error;
 
@@ -44,6 +44,16 @@ pub enum TrackingFrame {
     Sensor,
 }
 
+/// The sensor pose of one scan as the pipeline uses it.
+struct EgoPose {
+    /// In the odometry frame every stage works in: continuous from scan to scan.
+    odometry: Isometry3<f64>,
+    /// Places the odometry frame in the world frame the outputs are in.
+    world_from_odometry: Translation3<f64>,
+    /// What the tracks are expressed in.
+    frame: TrackingFrame,
+}
+
 /// Point and cluster counts of one frame.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct FrameCounts {
@@ -66,6 +76,9 @@ pub struct FrameOutput {
     pub timestamp: f64,
     /// Pose of the Velodyne frame in the world frame (identity when tracking in the sensor frame).
     pub ego_pose: Isometry3<f64>,
+    /// The same pose in the odometry frame the tracker works in (see
+    /// [`PoseEstimator::odometry`]); equal to `ego_pose` unless OXTS drives the pose.
+    pub odometry_pose: Isometry3<f64>,
     /// The frame the tracks are expressed in.
     pub tracking_frame: TrackingFrame,
     /// Confirmed object tracks (static structure excluded), in the world frame.
@@ -230,7 +243,11 @@ impl Pipeline {
             });
         }
         let mut laps = Laps::start();
-        let (pose, tracking_frame) = self.ego_pose(&frame)?;
+        let EgoPose {
+            odometry: pose,
+            world_from_odometry,
+            frame: tracking_frame,
+        } = self.ego_pose(&frame)?;
         laps.lap("pose");
         self.last_timestamp = Some(frame.timestamp);
         let index = self.next_index;
@@ -295,8 +312,17 @@ impl Pipeline {
             visibility: with_visibility.then_some(&self.range_image),
         };
         self.tracker.step(&scan, &inputs);
-        let tracks: Vec<TrackState> = self.tracker.reported().map(|t| t.state()).collect();
+        let tracks: Vec<TrackState> = self
+            .tracker
+            .reported()
+            .map(|t| {
+                let mut state = t.state();
+                state.center += world_from_odometry.vector;
+                state
+            })
+            .collect();
         laps.lap("track");
+        let ego_pose = world_from_odometry * pose;
 
         if tracking_frame == TrackingFrame::World {
             self.occupancy
@@ -313,8 +339,9 @@ impl Pipeline {
                 vehicle_id: &self.vehicle.id,
                 sequence,
                 timestamp: frame.timestamp,
-                ego_pose: &pose,
+                ego_pose: &ego_pose,
                 origin: origin.as_ref(),
+                points_to_world: world_from_odometry.vector,
             };
             let details = self.tracker.reported().zip(&tracks).map(|(t, state)| {
                 let points = t.cluster().map_or(&[][..], |j| inputs[j].points);
@@ -334,7 +361,8 @@ impl Pipeline {
         Ok(FrameOutput {
             index,
             timestamp: frame.timestamp,
-            ego_pose: pose,
+            ego_pose,
+            odometry_pose: pose,
             tracking_frame,
             tracks,
             superframe,
@@ -348,22 +376,29 @@ impl Pipeline {
         })
     }
 
-    /// The scan's sensor pose in the world frame: from the OXTS packet through the pose EKF,
-    /// given, or none (identity, tracking in the sensor frame).
-    fn ego_pose(&mut self, frame: &Frame) -> Result<(Isometry3<f64>, TrackingFrame), PoseError> {
+    /// The scan's sensor pose: from the OXTS packet through the pose EKF, given, or none
+    /// (identity, tracking in the sensor frame).
+    fn ego_pose(&mut self, frame: &Frame) -> Result<EgoPose, PoseError> {
+        let given = |pose: Isometry3<f64>, frame| EgoPose {
+            odometry: pose,
+            world_from_odometry: Translation3::identity(),
+            frame,
+        };
         match &frame.ego {
             Ego::Oxts(oxts) => {
                 let (config, vehicle) = (&self.config, &self.vehicle);
                 let estimator = self.pose.get_or_insert_with(|| {
                     PoseEstimator::new(config.pose.clone(), vehicle.origin, vehicle.imu_to_velo)
                 });
-                Ok((
-                    estimator.update(frame.timestamp, oxts)?,
-                    TrackingFrame::World,
-                ))
+                estimator.update(frame.timestamp, oxts)?;
+                Ok(EgoPose {
+                    odometry: estimator.odometry().ok_or(PoseError::AwaitingAttitude)?,
+                    world_from_odometry: estimator.world_from_odometry(),
+                    frame: TrackingFrame::World,
+                })
             }
-            Ego::Pose(pose) => Ok((*pose, TrackingFrame::World)),
-            Ego::None => Ok((Isometry3::identity(), TrackingFrame::Sensor)),
+            Ego::Pose(pose) => Ok(given(*pose, TrackingFrame::World)),
+            Ego::None => Ok(given(Isometry3::identity(), TrackingFrame::Sensor)),
         }
     }
 

@@ -3,7 +3,7 @@
 //! high-confidence tracks, with their boxes, motion covariance, VFH and a voxel-down-sampled
 //! point set, become the protobuf message a vehicle broadcasts to the fleet.
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, Vector3};
 use rustc_hash::{FxHashMap, FxHashSet};
 use serde::{Deserialize, Serialize};
 use trackd_proto as proto;
@@ -94,7 +94,8 @@ pub struct ObjectDetail<'a> {
     pub covariance: [f64; 36],
     /// The latest cluster's VFH (308 bins).
     pub vfh: &'a [f32],
-    /// The latest cluster's points in the world frame.
+    /// The latest cluster's points in the tracking frame (see
+    /// [`SuperFrameHeader::points_to_world`]).
     pub points: &'a [Point],
 }
 
@@ -110,6 +111,9 @@ pub struct SuperFrameHeader<'a> {
     pub ego_pose: &'a Isometry3<f64>,
     /// The world frame's geodetic origin, when known.
     pub origin: Option<&'a GeoOrigin>,
+    /// Added to the objects' points to place them in the world frame: the tracker works in
+    /// the odometry frame (see `PoseEstimator::odometry`); the tracks come already placed.
+    pub points_to_world: Vector3<f64>,
 }
 
 /// Builds the message from the tracks and, per track, the detail the tracker holds.
@@ -122,7 +126,13 @@ pub fn build<'a>(
         .into_iter()
         .filter(|(t, _)| t.confidence >= config.min_confidence)
         .map(|(t, d)| {
-            let points = voxel_downsample(d.points, config.voxel, config.max_points);
+            let mut points = voxel_downsample(d.points, config.voxel, config.max_points);
+            let shift = header.points_to_world.cast::<f32>();
+            for p in &mut points {
+                p.x += shift.x;
+                p.y += shift.y;
+                p.z += shift.z;
+            }
             wire::track_to_proto(t, &d.covariance, d.vfh, wire::pack_xyz(&points))
         })
         .collect();
@@ -238,6 +248,7 @@ mod tests {
             timestamp: 12.5,
             ego_pose: &pose,
             origin: Some(&origin),
+            points_to_world: Vector3::zeros(),
         };
         let cfg = SuperFrameConfig::default();
         let detail = || ObjectDetail {

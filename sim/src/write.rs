@@ -1,13 +1,16 @@
 //! Writing simulated drives in KITTI's raw layout, through the dataset crate's writers:
 //! `<out>/2011_09_26/` holds KITTI's calibration of that day, and vehicle k's drive is
 //! `<out>/2011_09_26/2011_09_26_drive_<k+1>_sync/` with `velodyne_points/`, `oxts/`,
-//! `tracklet_labels.xml` and `gt_tracks.csv`.
+//! `tracklet_labels.xml`, `gt_tracks.csv` and `poses_truth.txt` (the true poses, in KITTI
+//! odometry format, for `trackd run --poses`).
 
 use std::path::{Path, PathBuf};
 
+use nalgebra::{Isometry3, Vector3};
 use trackd_dataset::bin::write_bin;
-use trackd_dataset::calib::{RawCalib, write_raw_calib};
+use trackd_dataset::calib::{RawCalib, isometry, write_raw_calib};
 use trackd_dataset::oxts::{write_dataformat, write_oxts};
+use trackd_dataset::poses::write_poses;
 use trackd_dataset::timestamps::write_timestamps;
 use trackd_dataset::tracklets::write_tracklets;
 
@@ -38,6 +41,8 @@ pub struct DriveWriter {
     dir: PathBuf,
     timestamps: Vec<f64>,
     objects: Vec<GtObject>,
+    /// True Velodyne pose of each frame in the world.
+    velodyne_poses: Vec<Isometry3<f64>>,
 }
 
 impl DriveWriter {
@@ -55,6 +60,7 @@ impl DriveWriter {
             dir,
             timestamps: Vec::new(),
             objects: Vec::new(),
+            velodyne_poses: Vec::new(),
         })
     }
 
@@ -79,6 +85,7 @@ impl DriveWriter {
         )?;
         self.timestamps.push(frame.timestamp);
         self.objects.extend(frame.objects.iter().cloned());
+        self.velodyne_poses.push(frame.velodyne_pose);
         Ok(())
     }
 
@@ -97,8 +104,32 @@ impl DriveWriter {
             &tracklets(&self.objects),
         )?;
         write_gt_csv(&self.dir.join("gt_tracks.csv"), &self.objects)?;
+        write_poses(
+            &self.dir.join(POSES_TRUTH_FILE),
+            &camera_poses(&self.velodyne_poses),
+        )?;
         Ok(self.dir)
     }
+}
+
+/// The drive's true poses, as KITTI odometry poses of the rectified camera.
+pub const POSES_TRUTH_FILE: &str = "poses_truth.txt";
+
+/// KITTI odometry poses (rectified left camera of frame i in the camera frame of frame 0) of
+/// the Velodyne poses `velodyne` with the drive's calibration: `V·inv(P_0)·P_i·inv(V)`.
+fn camera_poses(velodyne: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+    let v = RawCalib::kitti_2011_09_26()
+        .rectified_camera()
+        .velo_to_rect_cam;
+    let v = isometry(
+        &v.fixed_view::<3, 3>(0, 0).into_owned(),
+        &Vector3::new(v[(0, 3)], v[(1, 3)], v[(2, 3)]),
+    );
+    let first = velodyne.first().copied().unwrap_or_default().inverse();
+    velodyne
+        .iter()
+        .map(|p| v * first * p * v.inverse())
+        .collect()
 }
 
 /// Writes a run held in memory; returns the drive folders, vehicle by vehicle.

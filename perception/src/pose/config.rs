@@ -90,10 +90,10 @@ pub struct PoseConfig {
     /// Default 30 (3 s at 10 Hz).
     pub max_consecutive_rejections: u32,
 
-    /// Fastest the published position may move away from where the IMU carried it, to absorb
-    /// a large GPS correction (after an outage), m/s; 0 publishes the filter's position as is.
-    /// Smaller corrections pass straight through; see [`PoseEstimator::output_offset`].
-    /// Default 1.0 (0.1 m per 10 Hz frame).
+    /// Fastest the odometry position may move away from where the IMU carried it, to follow
+    /// the GPS-corrected world position, m/s; 0 makes the odometry frame the world frame.
+    /// Static objects appear to move at most this fast in the odometry frame the tracker
+    /// works in; see [`PoseEstimator::output_offset`]. Default 0.1 (1 cm per 10 Hz frame).
     ///
     /// [`PoseEstimator::output_offset`]: super::PoseEstimator::output_offset
     pub max_output_correction_speed: f64,
@@ -131,7 +131,7 @@ impl Default for PoseConfig {
             velocity_gate: 16.27,
             attitude_gate: 16.27,
             max_consecutive_rejections: 30,
-            max_output_correction_speed: 1.0,
+            max_output_correction_speed: 0.1,
             max_prediction_gap: 1.0,
         }
     }

@@ -1,6 +1,6 @@
 //! [`PoseEstimator`]: OXTS packets (or given poses) in, the Velodyne's pose in the world out.
 
-use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 
 use super::{
     config::PoseConfig,
@@ -18,8 +18,16 @@ use crate::{geo::GeoOrigin, oxts::Oxts};
 /// The ego-pose filter of one vehicle.
 ///
 /// Feed it every scan's OXTS packet in timestamp order with [`update`](Self::update); it
-/// returns the pose of the Velodyne frame in the fleet's world frame. A refused update (an
-/// `Err`) leaves the estimator as it was.
+/// returns the pose of the Velodyne frame in the fleet's world frame, and
+/// [`odometry`](Self::odometry) the same pose in the vehicle's odometry frame. A refused
+/// update (an `Err`) leaves the estimator as it was.
+///
+/// The two frames (the `map` and `odom` frames of a localisation stack): the world pose is the
+/// filter's best estimate, and GPS corrections move it — by a metre or more while the filter
+/// converges from its first fix or after an outage. Every static object would move with it.
+/// The odometry pose moves as the IMU carried the vehicle and follows the world pose at most
+/// [`PoseConfig::max_output_correction_speed`]: objects stay still in it, and
+/// [`world_from_odometry`](Self::world_from_odometry) places them in the world.
 #[derive(Clone, Debug)]
 pub struct PoseEstimator {
     cfg: PoseConfig,
@@ -28,6 +36,7 @@ pub struct PoseEstimator {
     filter: Option<Filter>,
     last_timestamp: Option<f64>,
     pose: Option<Isometry3<f64>>,
+    odometry: Option<Isometry3<f64>>,
     report: StepReport,
 }
 
@@ -55,12 +64,14 @@ impl PoseEstimator {
             filter: None,
             last_timestamp: None,
             pose: None,
+            odometry: None,
             report: StepReport::default(),
         }
     }
 
     /// Fuses one OXTS packet taken at `timestamp` (seconds, the scan's) and returns the
-    /// Velodyne's pose in the world frame: the IMU pose · inv(`imu_to_velo`).
+    /// Velodyne's pose in the world frame: the IMU pose · inv(`imu_to_velo`). The pose in the
+    /// odometry frame is [`odometry`](Self::odometry).
     ///
     /// The first packet with a usable fix and finite attitude initialises the filter; until
     /// then this returns [`PoseError::AwaitingFix`] or [`PoseError::AwaitingAttitude`]. After
@@ -83,12 +94,15 @@ impl PoseEstimator {
         };
         self.report = report;
         self.last_timestamp = Some(timestamp);
-        let pose = self.filter.as_ref().map(|f| {
-            let mut imu = f.ekf.state.pose();
-            imu.translation.vector += f.slew.offset();
-            imu * self.velo_to_imu
-        });
+        let pose = self
+            .filter
+            .as_ref()
+            .map(|f| f.ekf.state.pose() * self.velo_to_imu);
         self.pose = pose;
+        self.odometry = self.filter.as_ref().zip(pose).map(|(f, mut p)| {
+            p.translation.vector += f.slew.offset();
+            p
+        });
         // the filter exists here: either it ran a step or it was just initialised
         pose.ok_or(PoseError::AwaitingAttitude)
     }
@@ -109,23 +123,35 @@ impl PoseEstimator {
         }
         self.last_timestamp = Some(timestamp);
         self.pose = Some(velo_pose);
+        self.odometry = Some(velo_pose);
         self.report = StepReport::default();
         Ok(velo_pose)
     }
 
-    /// The Velodyne pose returned by the last successful update.
+    /// The Velodyne pose in the world frame returned by the last successful update.
     pub fn pose(&self) -> Option<Isometry3<f64>> {
         self.pose
     }
 
-    /// How far the published position is from the filter's own (world frame, metres): a
-    /// large GPS correction being released at [`PoseConfig::max_output_correction_speed`].
+    /// The Velodyne pose of the last successful update in the odometry frame: continuous,
+    /// moved by GPS corrections at most [`PoseConfig::max_output_correction_speed`].
+    pub fn odometry(&self) -> Option<Isometry3<f64>> {
+        self.odometry
+    }
+
+    /// How far the odometry position is from the world one (metres): GPS corrections not yet
+    /// followed. `None` before initialisation.
     pub fn output_offset(&self) -> Option<Vector3<f64>> {
         self.filter.as_ref().map(|f| f.slew.offset())
     }
 
-    /// The filtered IMU pose in the world frame (`None` before initialisation), without the
-    /// [`output_offset`](Self::output_offset).
+    /// The transform from the odometry frame to the world frame (a translation by minus the
+    /// [`output_offset`](Self::output_offset)); the identity before initialisation.
+    pub fn world_from_odometry(&self) -> Translation3<f64> {
+        Translation3::from(-self.output_offset().unwrap_or_default())
+    }
+
+    /// The filtered IMU pose in the world frame (`None` before initialisation).
     pub fn imu_pose(&self) -> Option<Isometry3<f64>> {
         self.filter.as_ref().map(|f| f.ekf.state.pose())
     }
@@ -332,13 +358,9 @@ impl PoseEstimator {
             }
         }
 
-        if matches!(position, FixOutcome::Reanchored { .. }) {
-            f.slew.reset();
-        } else {
-            let correction = f.ekf.state.position - predicted;
-            f.slew
-                .absorb(&correction, dt, cfg.max_output_correction_speed);
-        }
+        let correction = f.ekf.state.position - predicted;
+        f.slew
+            .absorb(&correction, dt, cfg.max_output_correction_speed);
         f.timestamp = timestamp;
         f.packet = *oxts;
         f.imu = imu;

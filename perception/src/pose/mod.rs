@@ -20,8 +20,9 @@
 //!   the packet's attitude increment refines the rotation (`turn.rs`);
 //! - GPS jumps are rejected by a Mahalanobis gate on the innovation ([`PoseConfig`]); a shift
 //!   that lasts is re-anchored on;
-//! - after an outage the filter corrects at once, but the published position releases a large
-//!   correction at a bounded speed ([`PoseConfig::max_output_correction_speed`]).
+//! - the tracker works in an odometry frame that GPS corrections move at a bounded speed
+//!   ([`PoseConfig::max_output_correction_speed`]), while the filter (the world frame)
+//!   converges from its first fix or corrects at once after an outage.
 //!
 //! See [`gps`] for what counts as a dropout. One 15×15 predict and five small corrections per
 //! scan: microseconds.

@@ -1,11 +1,11 @@
-//! Continuity of the published pose.
+//! Continuity of the odometry pose.
 //!
-//! When GPS returns after an outage the filter corrects its position at once, by as much as it
-//! drifted: every tracked object would jump by that much in the world between two frames. The
-//! published position instead absorbs each step's correction into an offset and releases it
-//! at a bounded speed, like the odometry frame of a localisation stack: the filter itself
-//! (and its covariance) stays exact, only what is published lags by at most the offset.
-//! Ordinary per-step corrections, smaller than the step's budget, pass straight through.
+//! Every GPS correction moves the filter's position: by centimetres a step in steady
+//! driving, by a metre or more while it converges from its first fix or when GPS returns
+//! after an outage. Every static object would move with it. The odometry position instead
+//! absorbs each step's correction into an offset and releases it at a bounded speed, like the
+//! odometry frame of a localisation stack: the filter itself (and its covariance) stays exact;
+//! the odometry frame follows it slowly.
 
 use nalgebra::Vector3;
 
@@ -34,12 +34,7 @@ impl Slew {
         };
     }
 
-    /// Publishes the filter's position as is from now on (a deliberate jump).
-    pub fn reset(&mut self) {
-        self.offset = Vector3::zeros();
-    }
-
-    /// The published position minus the filter's.
+    /// The odometry position minus the filter's.
     pub fn offset(&self) -> Vector3<f64> {
         self.offset
     }

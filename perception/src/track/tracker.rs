@@ -191,14 +191,22 @@ impl Tracker {
         &self.tracks
     }
 
+    /// What the last [`Tracker::step`] measured of each of its clusters, in their order.
+    pub fn observations(&self) -> &[Observation] {
+        &self.observations
+    }
+
+    /// Whether `track` is reported (see [`Tracker::reported`]).
+    pub fn is_reported(&self, track: &Track) -> bool {
+        track.hits >= self.config.birth_hits
+            && track.misses <= self.config.report_coasting_scans
+            && track.identity().is_some()
+    }
+
     /// The tracks to report: confirmed (`birth_hits` matches), identified as objects, and
     /// matched in one of the last `report_coasting_scans + 1` scans.
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
-        self.tracks.iter().filter(|t| {
-            t.hits >= self.config.birth_hits
-                && t.misses <= self.config.report_coasting_scans
-                && t.identity().is_some()
-        })
+        self.tracks.iter().filter(|t| self.is_reported(t))
     }
 
     /// The boxes the confirmed tracks are predicted to occupy at `timestamp`.

@@ -1,7 +1,9 @@
-//! One module per subcommand: its flags (`Args`) and its entry point (`run`).
+//! One module per subcommand: its flags (`Args`) and its entry point (`run`); `clusters_csv` is
+//! `trackd run --debug-clusters`'s file.
 
 pub mod bench;
 pub mod cluster;
+pub mod clusters_csv;
 pub mod config;
 pub mod demo;
 pub mod eval;

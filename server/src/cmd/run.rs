@@ -1,6 +1,7 @@
 //! `trackd run INPUT --out DIR`: tracks objects through a recorded drive offline and writes
 //! `tracks.csv` (Velodyne frame of each scan), KITTI tracking results (camera frame, when the
-//! drive is calibrated), the super frames, the occupancy map and per-stage timings.
+//! drive is calibrated), the super frames, the occupancy map, the ego poses and per-stage
+//! timings.
 
 use std::collections::BTreeSet;
 use std::fs::File;
@@ -15,11 +16,14 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use prost::Message;
 use trackd_dataset::calib::RectifiedCamera;
 use trackd_dataset::labels::{KittiLabel, write_tracking_results};
+use trackd_dataset::poses::write_poses;
 use trackd_dataset::{OpenOptions, Source, open};
 use trackd_perception::pipeline::TrackingFrame;
 use trackd_perception::track::AssociationMode;
 use trackd_perception::{FrameOutput, ObjectClass, Pipeline, PipelineError, TrackState, Vehicle};
 use trackd_service::settings::Settings;
+
+use crate::cmd::clusters_csv::ClustersCsv;
 
 /// Header of `tracks.csv` (eval-protocol.md).
 pub const TRACKS_HEADER: &str = "frame,track_id,x,y,z,l,w,h,yaw,vx,vy,confidence,class";
@@ -52,6 +56,10 @@ pub struct Args {
     /// Process at most this many scans.
     #[arg(long)]
     pub frames: Option<usize>,
+    /// Also write what the tracker measured of every cluster of every scan, and which track
+    /// took it, to DIR/clusters.csv: why an object was or was not reported.
+    #[arg(long)]
+    pub debug_clusters: bool,
 }
 
 /// Parses an association mode by its configuration name.
@@ -94,7 +102,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .unwrap_or_else(|| settings.vehicle.imu_to_velo()),
     };
     let mut pipeline = Pipeline::new(config, vehicle);
-    let mut out = Outputs::create(&args.out, source.calib().is_some())?;
+    let mut out = Outputs::create(&args.out, source.calib().is_some(), args.debug_clusters)?;
     let progress = progress_bar(frames as u64);
     let reader = spawn_reader(source.clone(), frames);
     let started = Instant::now();
@@ -120,6 +128,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         tracking_frame = result.tracking_frame;
         ids.extend(result.tracks.iter().map(|t| t.id));
         out.write_frame(i, source.frame_id(i)?, &result, source.calib())?;
+        if let Some(clusters) = &mut out.clusters {
+            clusters.write_frame(i, &result.ego_pose, pipeline.tracker())?;
+        }
         progress.inc(1);
     }
     progress.finish_and_clear();
@@ -190,11 +201,14 @@ struct Outputs {
     timings: BufWriter<File>,
     timing_stages: Vec<&'static str>,
     kitti: Option<Vec<KittiLabel>>,
+    clusters: Option<ClustersCsv>,
+    /// The Velodyne pose of every processed scan in the world frame.
+    ego_poses: Vec<Isometry3<f64>>,
 }
 
 impl Outputs {
     /// Creates the output folder and opens the per-frame files.
-    fn create(dir: &Path, calibrated: bool) -> anyhow::Result<Self> {
+    fn create(dir: &Path, calibrated: bool, debug_clusters: bool) -> anyhow::Result<Self> {
         std::fs::create_dir_all(dir.join("superframes"))
             .with_context(|| format!("creating {}", dir.display()))?;
         let create = |name: &str| -> anyhow::Result<BufWriter<File>> {
@@ -205,12 +219,19 @@ impl Outputs {
         };
         let mut tracks = create("tracks.csv")?;
         writeln!(tracks, "{TRACKS_HEADER}")?;
+        let clusters = if debug_clusters {
+            Some(ClustersCsv::new(create("clusters.csv")?)?)
+        } else {
+            None
+        };
         Ok(Self {
             dir: dir.to_path_buf(),
             tracks,
             timings: create("timings.csv")?,
             timing_stages: Vec::new(),
             kitti: calibrated.then(Vec::new),
+            clusters,
+            ego_poses: Vec::new(),
         })
     }
 
@@ -255,6 +276,7 @@ impl Outputs {
             }
         }
         self.write_timings(index, result)?;
+        self.ego_poses.push(result.ego_pose);
         if let Some(sf) = &result.superframe {
             let path = self
                 .dir
@@ -290,6 +312,12 @@ impl Outputs {
     fn finish(mut self, pipeline: &Pipeline, source: &Source) -> anyhow::Result<()> {
         self.tracks.flush()?;
         self.timings.flush()?;
+        if let Some(clusters) = &mut self.clusters {
+            clusters.0.flush()?;
+        }
+        let poses = self.dir.join("ego_poses.txt");
+        write_poses(&poses, &self.ego_poses)
+            .with_context(|| format!("writing {}", poses.display()))?;
         let bt = self.dir.join("occupancy.bt");
         std::fs::write(&bt, pipeline.occupancy().to_bt())
             .with_context(|| format!("writing {}", bt.display()))?;
