@@ -16,6 +16,7 @@ use crate::occupancy::OccupancyMap;
 use crate::pose::{PoseError, PoseEstimator};
 use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
 use crate::track::fragments::{Bounds, stacked_groups};
+use crate::track::person_split::{PersonShape, PersonSplitter};
 use crate::track::{
     ClusterInput, Ground, PredictedBox, RangeImage, ScanContext, Splitter, Tracker,
 };
@@ -137,6 +138,7 @@ struct Buffers {
     group_ranges: Vec<Range<usize>>,
     grouped: Vec<Point>,
     boxes: Vec<PredictedBox>,
+    people: Vec<Range<usize>>,
     clusters: Clusters,
     /// Which entry of `clusters` each tracker input is.
     described: Vec<usize>,
@@ -150,6 +152,7 @@ pub struct Pipeline {
     filter: Filter,
     ground_removal: GroundRemoval,
     dbscan: Dbscan,
+    person_splitter: PersonSplitter,
     splitter: Splitter,
     tracker: Tracker,
     occupancy: OccupancyMap,
@@ -190,6 +193,7 @@ impl Pipeline {
             filter: Filter::new(config.filter.clone()),
             ground_removal: GroundRemoval::new(config.ground.clone()),
             dbscan: Dbscan::new(config.cluster.clone()),
+            person_splitter: PersonSplitter::default(),
             splitter: Splitter::default(),
             tracker: Tracker::new(config.track.clone()),
             occupancy: OccupancyMap::new(config.occupancy.clone()),
@@ -275,7 +279,7 @@ impl Pipeline {
         laps.lap("world");
 
         self.dbscan.run(&b.obstacles_world, &mut b.clustering)?;
-        self.gather_clusters(frame.timestamp);
+        self.gather_clusters(frame.timestamp, pose.translation.vector);
         laps.lap("cluster");
 
         self.describe_clusters(&pose);
@@ -403,9 +407,9 @@ impl Pipeline {
     }
 
     /// Gathers DBSCAN's clusters into `clusters`: stacked fragments of one object joined,
-    /// clusters larger than any object left to the map, clusters holding several confirmed
-    /// tracks' predicted boxes split among them.
-    fn gather_clusters(&mut self, timestamp: f64) {
+    /// clusters larger than any object left to the map, people a gap away peeled off,
+    /// clusters holding several confirmed tracks' predicted boxes split among them.
+    fn gather_clusters(&mut self, timestamp: f64, sensor: Vector3<f64>) {
         let b = &mut self.buffers;
         let classify = &self.config.track.classify;
         b.bounds.clear();
@@ -444,6 +448,8 @@ impl Pipeline {
         b.boxes.extend(self.tracker.predicted_boxes(timestamp));
         c.ranges.clear();
         let largest = classify.max_object_length as f32 * std::f32::consts::SQRT_2;
+        let person = PersonShape::of(classify);
+        let sensor = [sensor.x, sensor.y];
         for r in &b.group_ranges {
             let bounds = Bounds::of(&c.points[r.clone()]);
             let too_large =
@@ -453,14 +459,27 @@ impl Pipeline {
             }
             let before = c.ranges.len();
             if self.config.track.split_merged_clusters {
-                self.splitter
-                    .split(&mut c.points[r.clone()], &b.boxes, &mut c.ranges);
+                b.people.clear();
+                self.person_splitter.split(
+                    &mut c.points[r.clone()],
+                    sensor,
+                    &self.ground,
+                    &person,
+                    &mut b.people,
+                );
+                for person in &b.people {
+                    let part = r.start + person.start..r.start + person.end;
+                    let first = c.ranges.len();
+                    self.splitter
+                        .split(&mut c.points[part.clone()], &b.boxes, &mut c.ranges);
+                    for p in &mut c.ranges[first..] {
+                        *p = part.start + p.start..part.start + p.end;
+                    }
+                }
             } else {
-                c.ranges.push(0..r.len());
+                c.ranges.push(r.clone());
             }
-            for part in &mut c.ranges[before..] {
-                *part = r.start + part.start..r.start + part.end;
-            }
+            debug_assert!(c.ranges[before..].iter().all(|p| p.end <= r.end));
         }
     }
 

@@ -145,8 +145,9 @@ pub struct TrackConfig {
     /// A confirmed track missed for at most this many scans is still reported at its
     /// predicted position (coasting through short occlusions). Default 2.
     pub report_coasting_scans: u32,
-    /// Split a cluster that holds the predicted boxes of several confirmed tracks among
-    /// them (two riders side by side merged by DBSCAN). Default true.
+    /// Split clusters DBSCAN merged: people a gap away peeled off, and a cluster that holds
+    /// the predicted boxes of several confirmed tracks shared out among them (two riders side
+    /// by side). Default true.
     pub split_merged_clusters: bool,
     /// Weight of the new view in the smoothed size when it is smaller than the current
     /// estimate (partial views shrink slowly). Larger views count in full. Default 0.1.

@@ -13,6 +13,7 @@ pub mod fragments;
 pub mod ground;
 pub mod motion;
 pub mod observation;
+pub mod person_split;
 pub mod split;
 pub mod tracker;
 pub mod visibility;

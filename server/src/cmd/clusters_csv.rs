@@ -22,7 +22,8 @@ impl ClustersCsv {
         Ok(Self(file))
     }
 
-    /// Writes the clusters of scan `index` (sensor pose `ego_pose`) as `tracker` saw them;
+    /// Writes the clusters of scan `index` (sensor pose `ego_pose` in the tracking frame) as
+    /// `tracker` saw them;
     /// `x, y` is the outline's centre in the Velodyne frame of the scan.
     pub fn write_frame(
         &mut self,

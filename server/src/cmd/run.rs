@@ -129,7 +129,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ids.extend(result.tracks.iter().map(|t| t.id));
         out.write_frame(i, source.frame_id(i)?, &result, source.calib())?;
         if let Some(clusters) = &mut out.clusters {
-            clusters.write_frame(i, &result.ego_pose, pipeline.tracker())?;
+            clusters.write_frame(i, &result.odometry_pose, pipeline.tracker())?;
         }
         progress.inc(1);
     }
