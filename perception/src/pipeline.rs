@@ -313,6 +313,7 @@ impl Pipeline {
             timestamp: frame.timestamp,
             pose,
             ground: &self.ground,
+            range_limit: f64::from(self.config.filter.max_range),
             visibility: with_visibility.then_some(&self.range_image),
         };
         self.tracker.step(&scan, &inputs);

@@ -126,6 +126,7 @@ fn run(
             timestamp: t,
             pose: Isometry3::translation(0.0, 0.0, 1.73),
             ground: &ground,
+            range_limit: f64::INFINITY,
             visibility: None,
         };
         tracker.step(&scan, &clusters);

@@ -338,8 +338,9 @@ impl ClassVotes {
     ///
     /// Structure outweighing everything else is structure, moving or not. A static track is
     /// its most voted class when views shaped like nothing static outweigh the others; a
-    /// moving one counts the views shaped like clutter too, needs to outweigh only half the
-    /// unclear views, and is "other movable" when it fits no class.
+    /// moving one counts the views shaped like clutter too and needs to outweigh only half the
+    /// unclear views. A moving track shaped like no class is not identified: the strips a
+    /// grazing wall breaks into at range slide along with the sensor.
     pub fn identity(&self, moving: bool) -> Option<ObjectClass> {
         let sure: f32 = self.sure.iter().sum();
         let movable: f32 = self.movable.iter().sum();
@@ -357,7 +358,7 @@ impl ClassVotes {
             if sure + movable >= 0.5 * self.unknown {
                 return best(all);
             }
-            return Some(ObjectClass::OtherMovable);
+            return None;
         }
         if self.structure >= sure || self.unknown + movable > sure {
             return None;
@@ -503,13 +504,18 @@ mod tests {
         votes.add(ShapeVerdict::Structure(StructureKind::TooLarge), 0.9);
         votes.add(ShapeVerdict::Structure(StructureKind::TooLarge), 0.9);
         assert_eq!(votes.identity(false), None);
-        // Something that keeps moving is an object even if its shape is odd.
+        // Something that moves but never looks like an object is not one (the strips of a
+        // grazing wall slide along with the sensor); with a few views shaped like a class it is.
         let mut odd = ClassVotes::default();
         for _ in 0..5 {
             odd.add(ShapeVerdict::Unknown, 0.9);
         }
         assert_eq!(odd.identity(false), None);
-        assert_eq!(odd.identity(true), Some(ObjectClass::OtherMovable));
+        assert_eq!(odd.identity(true), None);
+        for _ in 0..3 {
+            odd.add(ShapeVerdict::Movable(ObjectClass::Car), 0.9);
+        }
+        assert_eq!(odd.identity(true), Some(ObjectClass::Car));
         // A wall whose visible part slides along it looks like it moves: still structure.
         let mut wall = ClassVotes::default();
         for _ in 0..5 {

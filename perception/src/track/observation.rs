@@ -16,6 +16,9 @@ const MIN_OBLIQUE_FACE: f64 = 1.2;
 /// A face is seen edge-on when the sensor lies farther than this (m) beyond its ends.
 const OBLIQUE_MARGIN: f64 = 1.0;
 
+/// A cluster with a point this close (m) to the range limit is cut by it.
+const CLIP_MARGIN: f64 = 1.0;
+
 /// One cluster as the tracker sees it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observation {
@@ -31,6 +34,9 @@ pub struct Observation {
     pub verdict: ShapeVerdict,
     /// Number of points.
     pub points: usize,
+    /// Whether the cluster reaches the range filter's outer limit: cut by it, its shape and
+    /// its motion are those of the cut (a wall's far end slides along with the vehicle).
+    pub clipped: bool,
 }
 
 impl Observation {
@@ -55,20 +61,25 @@ pub struct Observer {
 }
 
 impl Observer {
-    /// Measures the cluster made of `points` (world frame) seen by the sensor at `pose`.
+    /// Measures the cluster made of `points` (world frame) seen by the sensor at `pose`, whose
+    /// scan was cut at `range_limit` metres.
     pub fn observe(
         &mut self,
         points: &[Point],
         pose: &Isometry3<f64>,
+        range_limit: f64,
         ground: &Ground,
         classify: &ClassifyConfig,
     ) -> Observation {
         self.bev.clear();
         self.heights.clear();
         let mut sum = Vector3::zeros();
+        let sensor = pose.translation.vector;
+        let mut farthest: f64 = 0.0;
         for p in points {
             let v = Vector3::new(p.x as f64, p.y as f64, p.z as f64);
             sum += v;
+            farthest = farthest.max((v - sensor).norm_squared());
             self.bev.push(v.xy());
             self.heights.push(ground.height(&v));
         }
@@ -93,7 +104,6 @@ impl Observer {
             elevation.to_degrees()
                 >= classify.sensor_upper_fov_deg - classify.truncation_tolerance_deg
         });
-        let sensor = pose.translation.vector;
         let third = (top - bottom) / 3.0;
         let upper_width = self.spread(&rect, |h| h >= top - third);
         let lower_width = self.spread(&rect, |h| h <= bottom + third);
@@ -117,13 +127,19 @@ impl Observer {
             truncated,
             oblique_face,
         };
+        let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
         Observation {
             centroid,
             rect,
             ground_z: ground.z_below(&centroid),
             shape,
-            verdict: classify_shape(&shape, classify),
+            verdict: if clipped {
+                ShapeVerdict::Unknown
+            } else {
+                classify_shape(&shape, classify)
+            },
             points: points.len(),
+            clipped,
         }
     }
 
@@ -196,7 +212,13 @@ mod tests {
         );
         let points = box_points(base, 4.5, 1.8, 1.3);
         let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
+        let o = Observer::default().observe(
+            &points,
+            &sensor,
+            50.0,
+            &ground,
+            &ClassifyConfig::default(),
+        );
         assert!(!o.shape.truncated);
         assert!((o.shape.length - 4.5).abs() < 0.1);
         assert!((o.shape.width - 1.8).abs() < 0.1);
@@ -216,7 +238,13 @@ mod tests {
         let mut points = box_points(Vector3::new(5.0, 5.0, 0.0), 0.3, 0.3, 2.0);
         points.extend(box_points(Vector3::new(5.0, 5.0, 2.0), 3.0, 3.0, 1.5));
         let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        let o = Observer::default().observe(&points, &sensor, &ground, &ClassifyConfig::default());
+        let o = Observer::default().observe(
+            &points,
+            &sensor,
+            50.0,
+            &ground,
+            &ClassifyConfig::default(),
+        );
         assert!(o.shape.upper_width > 2.5 && o.shape.lower_width < 0.5);
         assert!(matches!(o.verdict, ShapeVerdict::Structure(_)));
     }
@@ -227,10 +255,17 @@ mod tests {
         let sensor = Isometry3::translation(0.0, 0.0, 1.73);
         // At 8 m the +2° ray passes 1.73 + 8 tan 2° = 2.01 m above the ground.
         let post = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.9);
-        let o = Observer::default().observe(&post, &sensor, &ground, &ClassifyConfig::default());
+        let o =
+            Observer::default().observe(&post, &sensor, 50.0, &ground, &ClassifyConfig::default());
         assert!(o.shape.truncated);
         let person = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.5);
-        let o = Observer::default().observe(&person, &sensor, &ground, &ClassifyConfig::default());
+        let o = Observer::default().observe(
+            &person,
+            &sensor,
+            50.0,
+            &ground,
+            &ClassifyConfig::default(),
+        );
         assert!(!o.shape.truncated);
     }
 }

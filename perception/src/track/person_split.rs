@@ -3,9 +3,10 @@
 //! them. Their upper bodies still stand apart: seen from above, the points higher than
 //! [`UPPER_BODY`] above the ground fall into separate connected footprints, one per torso
 //! (a car's cabin gives one large footprint). Every other point of the cluster then goes to
-//! the nearest such footprint; the parts grown from a person-sized torso that make a whole person
-//! (standing on the ground, person-high, person-sized) become clusters of their own, and
-//! everything else stays one cluster.
+//! the nearest such footprint. When the parts so grown are all whole people (a person-sized
+//! torso, standing on the ground, person-high, person-sized), each becomes a cluster of its
+//! own; a person-shaped part of a larger cluster is as often a post by a hedge as a pedestrian
+//! by a car, and such clusters stay whole.
 //!
 //! This needs no track: it separates the two cyclists of the paper's scene from their first
 //! scan on, before the track-guided split ([`super::split`]) can help.
@@ -477,25 +478,34 @@ mod tests {
     }
 
     #[test]
-    fn a_person_is_peeled_off_a_car_and_the_car_stays_whole() {
+    fn a_person_beside_a_car_stays_with_it() {
         // A car's side seen from y = -10: 4 m long, 1.4 m high, at y = 0; a person 0.4 m
-        // beyond its end.
+        // beyond its end. A person-shaped part of a larger cluster is as often a post by a
+        // hedge: only clusters made of people are split.
         let mut points = Vec::new();
         for i in 0..80 {
             for k in 0..14 {
                 points.push(Point::new(10.0 + i as f32 * 0.05, 0.0, k as f32 * 0.1, 0.0));
             }
         }
-        let car = points.len();
         for i in 0..10 {
             for k in 0..17 {
                 points.push(Point::new(14.4 + i as f32 * 0.05, 0.0, k as f32 * 0.1, 0.0));
             }
         }
         let parts = split(&mut points);
-        assert_eq!(parts.len(), 2, "{parts:?}");
-        assert_eq!(parts[0].len(), points.len() - car, "the person first");
-        assert_eq!(parts[1].len(), car, "then the car, whole");
+        assert_eq!(parts, vec![0..points.len()]);
+    }
+
+    #[test]
+    fn three_people_in_a_row_become_three() {
+        let one = rider(14.0, 0.0).len();
+        let mut points = rider(14.0, 0.0);
+        points.extend(rider(14.0, 0.9));
+        points.extend(rider(14.0, 1.8));
+        let parts = split(&mut points);
+        assert_eq!(parts.len(), 3, "{parts:?}");
+        assert!(parts.iter().all(|r| r.len() == one));
     }
 
     #[test]

@@ -48,6 +48,8 @@ pub struct ScanContext<'a> {
     pub pose: Isometry3<f64>,
     /// The ground in the world frame.
     pub ground: &'a Ground,
+    /// The range filter's outer limit (m): clusters reaching it are cut by it.
+    pub range_limit: f64,
     /// What the scan sees along each direction, when the world frame is fixed (a pose is
     /// known): the evidence of motion. `None`: motion is not judged.
     pub visibility: Option<&'a RangeImage>,
@@ -235,9 +237,13 @@ impl Tracker {
         }
         self.observations.clear();
         for c in clusters {
-            let o = self
-                .observer
-                .observe(c.points, &scan.pose, scan.ground, &self.config.classify);
+            let o = self.observer.observe(
+                c.points,
+                &scan.pose,
+                scan.range_limit,
+                scan.ground,
+                &self.config.classify,
+            );
             self.observations.push(o);
         }
         self.score_pairs(scan, clusters);
@@ -354,7 +360,9 @@ impl Tracker {
         t.misses = 0;
         t.cluster = Some(j);
         t.votes.add(o.verdict, config.classify.vote_memory);
-        judge_motion(t, cluster.points, scan, config);
+        if !o.clipped {
+            judge_motion(t, cluster.points, scan, config);
+        }
         trace_view("update", t, o);
     }
 
@@ -362,7 +370,7 @@ impl Tracker {
     /// an existing object.
     fn may_be_born(&self, j: usize) -> bool {
         let o = &self.observations[j];
-        if matches!(o.verdict, ShapeVerdict::Structure(_)) {
+        if o.clipped || matches!(o.verdict, ShapeVerdict::Structure(_)) {
             return false;
         }
         let c = o.rect.center;
@@ -523,7 +531,6 @@ const PROBES: usize = 24;
 const PROBE_MIN_HEIGHT: f64 = 0.4;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
-
 /// Judges whether track `t`, just matched to `points`, moves: where it was a moment ago is
 /// free space now. Keeps fresh probes while it does not.
 fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config: &TrackConfig) {
@@ -548,6 +555,10 @@ fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config:
         if through + hit >= MIN_DECIDED_PROBES
             && through as f64 >= c.moving_free_fraction * (through + hit) as f64
         {
+            tracing::trace!(
+                "track {} moves: seen through (through {through}, hit {hit})",
+                t.id
+            );
             t.moving = true;
             return;
         }
