@@ -8,7 +8,7 @@ use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use super::assignment::Assigner;
 use super::association::{PairScore, TrackPairs, associate};
 use super::box_fit::{length_heading, place_box};
-use super::classify::{ClassVotes, ShapeVerdict};
+use super::classify::{ClassVotes, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape};
 use super::config::{AssociationMode, TrackConfig};
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
@@ -89,6 +89,9 @@ pub struct Track {
     hits: u32,
     misses: u32,
     votes: ClassVotes,
+    /// The highest top above the ground (m) of a view shaped like a car lately, sinking by
+    /// [`TOP_SINK`] a scan; 0 when none was.
+    car_top: f64,
     moving: bool,
     /// Points of an earlier cluster of the track (world frame) and when they were seen.
     probes: Vec<Vector3<f64>>,
@@ -359,7 +362,11 @@ impl Tracker {
         t.hits += 1;
         t.misses = 0;
         t.cluster = Some(j);
-        t.votes.add(o.verdict, config.classify.vote_memory);
+        t.car_top = (t.car_top - TOP_SINK).max(car_top(o));
+        t.votes.add(
+            verdict_with_car_top(o, t.car_top, config),
+            config.classify.vote_memory,
+        );
         if !o.clipped {
             judge_motion(t, cluster.points, scan, config);
         }
@@ -420,6 +427,7 @@ impl Tracker {
             hits: 1,
             misses: 0,
             votes,
+            car_top: car_top(o),
             moving: false,
             probes: Vec::new(),
             probe_time: scan.timestamp,
@@ -432,6 +440,37 @@ impl Tracker {
         }
         self.next_id += 1;
     }
+}
+
+/// How fast (m per scan) the remembered top of a track sinks towards what is seen now.
+const TOP_SINK: f64 = 0.02;
+
+/// The top (m) of view `o` if it is shaped like a car, else 0.
+fn car_top(o: &Observation) -> f64 {
+    if is_car(o.verdict) { o.shape.top } else { 0.0 }
+}
+
+/// Whether a verdict names a car.
+fn is_car(verdict: ShapeVerdict) -> bool {
+    matches!(
+        verdict,
+        ShapeVerdict::Object(ObjectClass::Car) | ShapeVerdict::Movable(ObjectClass::Car)
+    )
+}
+
+/// The verdict on view `o` of a track that looked like a car of top `car_top` lately: the
+/// beams that reach a distant car's roof return only now and then, and a view without them is
+/// still the car, not a low object. Views cut by the range limit stay unknown.
+fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> ShapeVerdict {
+    if o.clipped || o.verdict != ShapeVerdict::Structure(StructureKind::TooLow) {
+        return o.verdict;
+    }
+    let shape = ShapeFeatures {
+        top: car_top,
+        ..o.shape
+    };
+    let lifted = classify_shape(&shape, &config.classify);
+    if is_car(lifted) { lifted } else { o.verdict }
 }
 
 /// A view whose outline is thinner than this (m) shows one face only.
