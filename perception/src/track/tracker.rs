@@ -458,11 +458,17 @@ fn is_car(verdict: ShapeVerdict) -> bool {
     )
 }
 
-/// The verdict on view `o` of a track that looked like a car of top `car_top` lately: the
-/// beams that reach a distant car's roof return only now and then, and a view without them is
-/// still the car, not a low object. Views cut by the range limit stay unknown.
+/// The verdict on view `o` of a track that looked like a car of top `car_top` lately. A
+/// view's top only bounds the height from below (the beams that reach a distant car's roof
+/// return only now and then), so the car's top is the highest seen: a view without the roof
+/// is still the car, not a low object, and a view under the car height of a thing that was
+/// seen taller (a bush, a hedge) is not a sure car. Views cut by the range limit stay unknown.
 fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> ShapeVerdict {
-    if o.clipped || o.verdict != ShapeVerdict::Structure(StructureKind::TooLow) {
+    let lower_bound = matches!(
+        o.verdict,
+        ShapeVerdict::Structure(StructureKind::TooLow) | ShapeVerdict::Object(ObjectClass::Car)
+    );
+    if o.clipped || !lower_bound || car_top <= o.shape.top {
         return o.verdict;
     }
     let shape = ShapeFeatures {
