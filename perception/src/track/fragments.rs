@@ -1,8 +1,10 @@
 //! Re-joining an object DBSCAN cut in two horizontally: a distant car whose middle rings
 //! return nothing (dark paint, glass) falls apart into a low part and a high part, each too
 //! low or floating to be an object. Clusters stacked one above the other, one's footprint
-//! inside the other's, with a small vertical gap, are one object. Riders side by side are
-//! not stacked (their heights overlap) and stay apart.
+//! inside the other's, with a small vertical gap, are one object. So are a car's body and the
+//! cabin set back on it (glass returns little, and the cabin's face is a metre behind the
+//! body's): a high part no wider than the low one, within a cabin's setback of it. Riders side
+//! by side are not stacked (their heights overlap) and stay apart.
 
 use crate::Point;
 
@@ -14,6 +16,14 @@ const MIN_INSIDE: f32 = 0.7;
 const MAX_GAP: f32 = 1.0;
 /// Smallest footprint side (m) assumed, so that a one-ring sliver has an area.
 const MIN_SIDE: f32 = 0.1;
+/// How far (m) a car's cabin face may sit behind (or ahead of) its body's face.
+const CABIN_SETBACK: f32 = 1.5;
+/// Largest vertical gap (m) between a body and its cabin.
+const CABIN_MAX_GAP: f32 = 0.5;
+/// How much taller (m) than the body's top a cabin may reach.
+const CABIN_MAX_RISE: f32 = 1.2;
+/// How much wider (m) than the body a cabin may look, on either axis.
+const CABIN_MAX_EXTRA_SIDE: f32 = 0.3;
 
 /// The axis-aligned bounds of one cluster.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,13 +73,27 @@ impl Bounds {
         } else {
             (other, self)
         };
+        small.inside_share(large, FOOTPRINT_MARGIN) >= MIN_INSIDE || high.is_cabin_of(low, gap)
+    }
+
+    /// Whether `self`, higher than `body` by `gap`, is the cabin of that car body: no wider,
+    /// not much taller, within a cabin's setback.
+    fn is_cabin_of(&self, body: &Self, gap: f32) -> bool {
+        gap <= CABIN_MAX_GAP
+            && self.max[2] <= body.max[2] + CABIN_MAX_RISE
+            && (0..2).all(|k| self.side(k) <= body.side(k) + CABIN_MAX_EXTRA_SIDE)
+            && self.inside_share(body, CABIN_SETBACK) >= MIN_INSIDE
+    }
+
+    /// The share of `self`'s footprint inside `other`'s grown by `margin` on every side.
+    fn inside_share(&self, other: &Self, margin: f32) -> f32 {
         let mut inside = 1.0;
         for k in 0..2 {
-            let lo = small.min[k].max(large.min[k] - FOOTPRINT_MARGIN);
-            let hi = small.max[k].min(large.max[k] + FOOTPRINT_MARGIN);
-            inside *= ((hi - lo).max(0.0) / small.side(k)).min(1.0);
+            let lo = self.min[k].max(other.min[k] - margin);
+            let hi = self.max[k].min(other.max[k] + margin);
+            inside *= ((hi - lo).max(0.0) / self.side(k)).min(1.0);
         }
-        inside >= MIN_INSIDE
+        inside
     }
 }
 
@@ -134,5 +158,20 @@ mod tests {
         let mut groups = Vec::new();
         stacked_groups(&parts, &mut groups);
         assert_eq!(groups, vec![0, 0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn joins_a_car_body_and_its_set_back_cabin_but_not_a_crown_behind_a_hedge() {
+        let parts = [
+            // A car at 36 m seen from behind: the body's rear face, the cabin 1.2 m farther.
+            bounds([35.1, -3.2, 0.37], [35.3, -1.4, 0.8]),
+            bounds([36.3, -3.2, 0.97], [36.5, -1.6, 1.41]),
+            // A hedge, and a tree crown 1 m behind it: wider than the hedge, far taller.
+            bounds([20.0, 5.0, 0.0], [20.5, 7.0, 0.9]),
+            bounds([21.0, 4.0, 1.2], [24.0, 8.0, 5.0]),
+        ];
+        let mut groups = Vec::new();
+        stacked_groups(&parts, &mut groups);
+        assert_eq!(groups, vec![0, 0, 1, 2]);
     }
 }
