@@ -53,7 +53,12 @@ fn env_or(name: &str, default: u64) -> anyhow::Result<u64> {
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .ok()
-        .map(|text| text.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .map(|text| {
+            text.split_whitespace()
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
         .unwrap_or_else(|| "unknown".into())
 }
 
@@ -87,7 +92,11 @@ async fn capacity_sweep() -> anyhow::Result<()> {
             break;
         }
     }
-    let bound = if held == max as usize { "at least " } else { "" };
+    let bound = if held == max as usize {
+        "at least "
+    } else {
+        ""
+    };
     println!(
         "  -> this machine serves {bound}{held} vehicle(s) at 10 Hz with no refused upload \
          ({} cores)",
