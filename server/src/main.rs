@@ -24,6 +24,8 @@ enum Command {
     Run(cmd::run::Args),
     /// Score tracks against ground truth (CLEAR MOT, IDF1, HOTA).
     Eval(cmd::eval::Args),
+    /// Draw a run's tracks over the drive, seen from above, as a PNG.
+    Plot(cmd::plot::Args),
     /// Time each pipeline stage on one scan.
     Bench(cmd::bench::Args),
     /// Simulate drives with ground truth, written in KITTI raw layout.
@@ -54,6 +56,7 @@ fn main() -> anyhow::Result<()> {
         Command::Router(a) => cmd::router::run(a),
         Command::Run(a) => cmd::run::run(a),
         Command::Eval(a) => cmd::eval::run(a),
+        Command::Plot(a) => cmd::plot::run(a),
         Command::Bench(a) => cmd::bench::run(a),
         Command::Sim(a) => cmd::sim::run(a),
         Command::Info(a) => cmd::info::run(a),

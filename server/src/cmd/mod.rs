@@ -9,6 +9,7 @@ pub mod demo;
 pub mod eval;
 pub mod health;
 pub mod info;
+pub mod plot;
 pub mod router;
 pub mod run;
 pub mod serve;
