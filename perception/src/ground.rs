@@ -186,10 +186,11 @@ pub struct GroundRemoval {
     cursor: Vec<u32>,
     ground: Vec<bool>,
     /// Scratch: the zone planes in f32, each point's column of the obstacle-base test, the
-    /// columns holding an obstacle, and the (x, y) bounds of the finite points.
+    /// columns holding an obstacle (one bit each: the table stays in cache), and the (x, y)
+    /// bounds of the finite points.
     plane32: Vec<[f32; 4]>,
     column_of: Vec<u32>,
-    obstacle_column: Vec<bool>,
+    obstacle_column: Vec<u64>,
     bounds: [f32; 4],
 }
 
@@ -330,7 +331,7 @@ impl GroundRemoval {
         let (limit, growth) = (config.distance_threshold, config.threshold_growth);
         let obstacle = &mut self.obstacle_column;
         obstacle.clear();
-        obstacle.resize(nx * ny, false);
+        obstacle.resize((nx * ny).div_ceil(64), 0);
         self.column_of.clear();
         self.column_of.resize(points.len(), u32::MAX);
         is_ground.clear();
@@ -351,13 +352,17 @@ impl GroundRemoval {
                 let column = cx * ny + cy;
                 *column_of = column as u32;
                 if h >= band_lo && h <= band_hi {
-                    obstacle[column] = true;
+                    obstacle[column / 64] |= 1 << (column % 64);
                 }
             }
         }
         if base_test {
             for (g, &column) in is_ground.iter_mut().zip(&self.column_of) {
-                if *g && column != u32::MAX && obstacle[column as usize] {
+                let column = column as usize;
+                if *g
+                    && column != u32::MAX as usize
+                    && (obstacle[column / 64] >> (column % 64)) & 1 == 1
+                {
                     *g = false;
                 }
             }
