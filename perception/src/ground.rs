@@ -586,10 +586,12 @@ impl Sample {
         }
     }
 
+    /// Number of points.
     fn len(&self) -> usize {
         self.x.len()
     }
 
+    /// Point `i`.
     fn get(&self, i: usize) -> [f64; 3] {
         [self.x[i], self.y[i], self.z[i]]
     }

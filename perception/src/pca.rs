@@ -108,6 +108,7 @@ enum Spectrum {
 }
 
 impl Spectrum {
+    /// The spectrum of `a` (symmetric, entries of order 1).
     fn of(a: [[f64; 3]; 3]) -> Self {
         let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
         let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
