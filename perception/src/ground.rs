@@ -181,15 +181,16 @@ pub struct GroundRemoval {
     zone_plane: Vec<Plane>,
     /// Scratch: candidate points of one fit, and the subsample hypotheses are scored on.
     candidates: Vec<[f64; 3]>,
-    sample: Vec<[f64; 3]>,
+    sample: Sample,
     /// Scratch: counting-sort cursors and ground flags.
     cursor: Vec<u32>,
     ground: Vec<bool>,
     /// Scratch: the zone planes in f32, each point's column of the obstacle-base test, the
-    /// columns holding an obstacle, and the (x, y) bounds of the finite points.
+    /// columns holding an obstacle (one bit each: the table stays in cache), and the (x, y)
+    /// bounds of the finite points.
     plane32: Vec<[f32; 4]>,
     column_of: Vec<u32>,
-    obstacle_column: Vec<bool>,
+    obstacle_column: Vec<u64>,
     bounds: [f32; 4],
 }
 
@@ -247,7 +248,7 @@ impl GroundRemoval {
             by_zone: Vec::new(),
             zone_plane: Vec::new(),
             candidates: Vec::new(),
-            sample: Vec::new(),
+            sample: Sample::default(),
             cursor: Vec::new(),
             ground: Vec::new(),
             plane32: Vec::new(),
@@ -327,34 +328,41 @@ impl GroundRemoval {
         };
         let inv = 1.0 / side;
         let [band_lo, band_hi] = config.base_band;
-        self.obstacle_column.clear();
-        self.obstacle_column.resize(nx * ny, false);
+        let (limit, growth) = (config.distance_threshold, config.threshold_growth);
+        let obstacle = &mut self.obstacle_column;
+        obstacle.clear();
+        obstacle.resize((nx * ny).div_ceil(64), 0);
         self.column_of.clear();
+        self.column_of.resize(points.len(), u32::MAX);
         is_ground.clear();
-        for ((p, &zone), &range) in points.iter().zip(&self.zone_of).zip(&self.range_of) {
+        is_ground.resize(points.len(), true);
+        let located = points.iter().zip(&self.zone_of).zip(&self.range_of);
+        let marks = is_ground.iter_mut().zip(self.column_of.iter_mut());
+        for (((p, &zone), &range), (ground, column_of)) in located.zip(marks) {
+            // Non-finite points stay ground, in no column.
             if zone == u32::MAX {
-                self.column_of.push(u32::MAX);
-                is_ground.push(true);
                 continue;
             }
             let [a, b, c, d] = self.plane32[zone as usize];
             let h = a * p.x + b * p.y + c * p.z + d;
-            is_ground.push(h <= config.distance_threshold + config.threshold_growth * range);
-            let column = if base_test {
-                let cx = (((p.x - min_x) * inv) as usize).min(nx - 1);
-                let cy = (((p.y - min_y) * inv) as usize).min(ny - 1);
-                cx * ny + cy
-            } else {
-                0
-            };
-            self.column_of.push(column as u32);
-            if base_test && h >= band_lo && h <= band_hi {
-                self.obstacle_column[column] = true;
+            *ground = h <= limit + growth * range;
+            if base_test {
+                let cx = index_below((p.x - min_x) * inv, nx);
+                let cy = index_below((p.y - min_y) * inv, ny);
+                let column = cx * ny + cy;
+                *column_of = column as u32;
+                if h >= band_lo && h <= band_hi {
+                    obstacle[column / 64] |= 1 << (column % 64);
+                }
             }
         }
         if base_test {
             for (g, &column) in is_ground.iter_mut().zip(&self.column_of) {
-                if *g && column != u32::MAX && self.obstacle_column[column as usize] {
+                let column = column as usize;
+                if *g
+                    && column != u32::MAX as usize
+                    && (obstacle[column / 64] >> (column % 64)) & 1 == 1
+                {
                     *g = false;
                 }
             }
@@ -365,8 +373,6 @@ impl GroundRemoval {
     fn assign_zones(&mut self, points: &[Point]) {
         let rings = &self.rings;
         let zones: usize = rings.iter().map(|r| r.sectors).sum();
-        self.zone_of.clear();
-        self.range_of.clear();
         self.zone_start.clear();
         self.zone_start.resize(zones + 1, 0);
         self.bounds = [
@@ -375,29 +381,33 @@ impl GroundRemoval {
             f32::NEG_INFINITY,
             f32::NEG_INFINITY,
         ];
-        for p in points {
+        self.zone_of.clear();
+        self.zone_of.resize(points.len(), u32::MAX);
+        self.range_of.clear();
+        self.range_of.resize(points.len(), 0.0);
+        let mut bounds = self.bounds;
+        let (inner, last) = (&rings[..rings.len() - 1], rings.len() - 1);
+        let slots = self.zone_of.iter_mut().zip(self.range_of.iter_mut());
+        for (p, (zone_of, range_of)) in points.iter().zip(slots) {
+            // Non-finite points are in no zone.
             if !p.is_finite() {
-                self.zone_of.push(u32::MAX);
-                self.range_of.push(0.0);
                 continue;
             }
             let range = (p.x * p.x + p.y * p.y).sqrt();
-            let ring = rings[..rings.len() - 1]
-                .iter()
-                .position(|r| range < r.outer)
-                .unwrap_or(rings.len() - 1);
+            let ring = inner.iter().position(|r| range < r.outer).unwrap_or(last);
             let sector = sector_of(p.y, p.x, rings[ring].sectors);
-            self.bounds = [
-                self.bounds[0].min(p.x),
-                self.bounds[1].min(p.y),
-                self.bounds[2].max(p.x),
-                self.bounds[3].max(p.y),
+            bounds = [
+                bounds[0].min(p.x),
+                bounds[1].min(p.y),
+                bounds[2].max(p.x),
+                bounds[3].max(p.y),
             ];
             let zone = self.first_zone[ring] + sector;
-            self.zone_of.push(zone as u32);
-            self.range_of.push(range);
+            *zone_of = zone as u32;
+            *range_of = range;
             self.zone_start[zone + 1] += 1;
         }
+        self.bounds = bounds;
         for z in 0..zones {
             self.zone_start[z + 1] += self.zone_start[z];
         }
@@ -498,9 +508,8 @@ impl GroundRemoval {
         let min_cos = max_angle_deg.to_radians().cos();
         // Score hypotheses on an evenly strided subsample.
         let stride = self.candidates.len().div_ceil(config.sample_size.max(3));
-        self.sample.clear();
         self.sample
-            .extend(self.candidates.iter().step_by(stride).copied());
+            .fill(self.candidates.iter().step_by(stride).copied());
         let n = self.sample.len();
         let mut rng = SplitMix64::new(config.seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let mut best: Option<(Plane, i64, usize)> = None;
@@ -509,7 +518,7 @@ impl GroundRemoval {
         while iteration < needed.min(config.max_iterations) {
             iteration += 1;
             let (a, b, c) = rng.three_distinct(n);
-            let (pa, pb, pc) = (self.sample[a], self.sample[b], self.sample[c]);
+            let (pa, pb, pc) = (self.sample.get(a), self.sample.get(b), self.sample.get(c));
             let normal = cross(sub(pb, pa), sub(pc, pa));
             let Some(plane) = Plane::through(pa, normal) else {
                 continue;
@@ -517,20 +526,13 @@ impl GroundRemoval {
             if dot(plane.normal, prior.normal) < min_cos {
                 continue;
             }
-            // Ground is the lowest surface: a plane with points well below it (a strip of a
-            // car's side, a low wall top) loses two inliers for each of them.
-            let (mut inliers, mut below) = (0usize, 0usize);
-            for &p in &self.sample {
-                let h = plane.height(p);
-                inliers += usize::from(h.abs() <= threshold);
-                below += usize::from(h < -2.0 * threshold);
-            }
-            let score = inliers as i64 - 2 * below as i64;
-            if best.is_none_or(|(_, s, _)| score > s) {
-                best = Some((plane, score, inliers));
-                let ratio = inliers as f64 / n as f64;
-                needed = iterations_needed(ratio, config.confidence, config.max_iterations);
-            }
+            let to_beat = best.map(|(_, s, _)| s);
+            let Some((score, inliers)) = self.sample.score(&plane, threshold, to_beat) else {
+                continue;
+            };
+            best = Some((plane, score, inliers));
+            let ratio = inliers as f64 / n as f64;
+            needed = iterations_needed(ratio, config.confidence, config.max_iterations);
         }
         let (hypothesis, _, _) = best?;
 
@@ -559,6 +561,80 @@ impl GroundRemoval {
     }
 }
 
+/// The subsample RANSAC hypotheses are scored on, coordinate by coordinate so that the
+/// scoring loop runs over plain arrays.
+#[derive(Debug, Default)]
+struct Sample {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+}
+
+/// Points scored between two checks of whether a hypothesis can still win.
+const SCORE_CHUNK: usize = 32;
+
+impl Sample {
+    /// Replaces the points.
+    fn fill(&mut self, points: impl Iterator<Item = [f64; 3]>) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+        for [x, y, z] in points {
+            self.x.push(x);
+            self.y.push(y);
+            self.z.push(z);
+        }
+    }
+
+    /// Number of points.
+    fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Point `i`.
+    fn get(&self, i: usize) -> [f64; 3] {
+        [self.x[i], self.y[i], self.z[i]]
+    }
+
+    /// The score of `plane` (inliers within `threshold`, less two for each point more than
+    /// `2 · threshold` below it: ground is the lowest surface, so a plane with points well
+    /// below it, a strip of a car's side or a low wall top, is penalised) and its inliers;
+    /// `None` when it cannot beat `to_beat`. Counting stops as soon as the points left could
+    /// not lift the score above `to_beat` even if all were inliers, which never changes
+    /// which hypothesis wins.
+    fn score(&self, plane: &Plane, threshold: f64, to_beat: Option<i64>) -> Option<(i64, usize)> {
+        let n = self.len();
+        let ([a, b, c], d) = (plane.normal, plane.offset);
+        let far_below = -2.0 * threshold;
+        let (mut inliers, mut below) = (0usize, 0usize);
+        for start in (0..n).step_by(SCORE_CHUNK) {
+            if let Some(to_beat) = to_beat {
+                let reachable = inliers as i64 - 2 * below as i64 + (n - start) as i64;
+                if reachable <= to_beat {
+                    return None;
+                }
+            }
+            let end = (start + SCORE_CHUNK).min(n);
+            let (xs, ys, zs) = (
+                &self.x[start..end],
+                &self.y[start..end],
+                &self.z[start..end],
+            );
+            for ((&x, &y), &z) in xs.iter().zip(ys).zip(zs) {
+                // Plane::height, operation for operation.
+                let h = a * x + b * y + c * z + d;
+                inliers += usize::from(h.abs() <= threshold);
+                below += usize::from(h < far_below);
+            }
+        }
+        let score = inliers as i64 - 2 * below as i64;
+        match to_beat {
+            Some(to_beat) if score <= to_beat => None,
+            _ => Some((score, inliers)),
+        }
+    }
+}
+
 /// RANSAC iterations needed to draw an all-inlier triple with probability `confidence` when
 /// a fraction `ratio` of the points are inliers.
 fn iterations_needed(ratio: f64, confidence: f64, max: usize) -> usize {
@@ -580,8 +656,14 @@ fn iterations_needed(ratio: f64, confidence: f64, max: usize) -> usize {
 /// The azimuth sector of (x, y) among `sectors` equal sectors, sector 0 starting at -π.
 fn sector_of(y: f32, x: f32, sectors: usize) -> usize {
     use std::f32::consts::{PI, TAU};
-    let s = ((fast_atan2(y, x) + PI) * (sectors as f32 / TAU)) as usize;
-    s.min(sectors - 1)
+    index_below((fast_atan2(y, x) + PI) * (sectors as f32 / TAU), sectors)
+}
+
+/// `(v as usize).min(n - 1)` (n ≥ 1, at most 2³¹) through a cheaper `i32` conversion: both
+/// truncate, and give 0 for NaN and negative `v`, and `n - 1` for `v` at or above 2³¹.
+#[inline]
+fn index_below(v: f32, n: usize) -> usize {
+    ((v as i32).max(0) as usize).min(n - 1)
 }
 
 /// atan2 to within 1e-5 rad (a polynomial; libm's atan2 costs more than the rest of the
@@ -774,6 +856,46 @@ mod tests {
             expected.len()
         );
         assert!((near.normal[2] - 1.0).abs() < 1e-3 && (near.offset - 1.73).abs() < 0.02);
+    }
+
+    #[test]
+    fn hypothesis_scores_stop_early_only_when_they_cannot_win() {
+        let mut rng = SplitMix64::new(7);
+        let mut unit = || (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
+        let points: Vec<[f64; 3]> = (0..300)
+            .map(|_| [unit() * 20.0, unit() * 20.0 - 10.0, unit() * 0.8 - 2.0])
+            .collect();
+        let mut sample = Sample::default();
+        sample.fill(points.iter().copied());
+        for _ in 0..200 {
+            let normal = [unit() * 0.2 - 0.1, unit() * 0.2 - 0.1, 1.0];
+            let plane = Plane::through([0.0, 0.0, -1.7 + unit() * 0.4], normal).unwrap();
+            let (mut inliers, mut below) = (0usize, 0usize);
+            for &p in &points {
+                let h = plane.height(p);
+                inliers += usize::from(h.abs() <= 0.2);
+                below += usize::from(h < -0.4);
+            }
+            let score = inliers as i64 - 2 * below as i64;
+            assert_eq!(sample.score(&plane, 0.2, None), Some((score, inliers)));
+            for to_beat in [score - 1, score, score + 1, -1000, 300] {
+                let expected = (score > to_beat).then_some((score, inliers));
+                assert_eq!(sample.score(&plane, 0.2, Some(to_beat)), expected);
+            }
+        }
+    }
+
+    #[test]
+    fn index_below_equals_the_usize_cast() {
+        for v in [
+            -1e10f32, -3.0, -0.5, -0.0, 0.0, 0.7, 5.0, 6.99, 7.0, 1e9, 3e9, 1e30,
+        ] {
+            for n in [1usize, 7, 4096] {
+                assert_eq!(index_below(v, n), (v as usize).min(n - 1), "{v} {n}");
+            }
+        }
+        assert_eq!(index_below(f32::NAN, 5), 0);
+        assert_eq!(index_below(f32::INFINITY, 5), 4);
     }
 
     #[test]

@@ -81,11 +81,12 @@ pub(crate) fn smallest_eigenvector(m: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
         return (0.0, [0.0, 0.0, 1.0]);
     }
     let a = m.map(|row| row.map(|v| v / scale));
-    let [smallest, _, largest] = eigenvalues(a);
+    let spectrum = Spectrum::of(a);
+    let smallest = spectrum.smallest();
     let vector = eigenvector(a, smallest).unwrap_or_else(|| {
         // Two (or three) eigenvalues equal the smallest: any unit vector orthogonal to the
         // largest eigenvalue's eigenvector will do.
-        let axis = eigenvector(a, largest).unwrap_or([0.0, 0.0, 1.0]);
+        let axis = eigenvector(a, spectrum.largest()).unwrap_or([0.0, 0.0, 1.0]);
         let helper = if axis[0].abs() < 0.9 {
             [1.0, 0.0, 0.0]
         } else {
@@ -96,25 +97,52 @@ pub(crate) fn smallest_eigenvector(m: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
     (smallest * scale, vector)
 }
 
-/// Eigenvalues of a symmetric 3×3 matrix, ascending (Smith 1961).
-fn eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
-    let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    let diag = [a[0][0] - q, a[1][1] - q, a[2][2] - q];
-    let p2 = diag[0] * diag[0] + diag[1] * diag[1] + diag[2] * diag[2] + 2.0 * off;
-    if p2 <= 0.0 {
-        return [q; 3];
+/// The eigenvalues of a symmetric 3×3 matrix in Smith's (1961) trigonometric form
+/// `q + 2p·cos(φ + 2πj/3)`, each evaluated only when asked for.
+#[derive(Clone, Copy, Debug)]
+enum Spectrum {
+    /// All three eigenvalues equal this.
+    Repeated(f64),
+    /// `q`, `p` and `φ` of Smith's form.
+    Trigonometric { q: f64, p: f64, phi: f64 },
+}
+
+impl Spectrum {
+    /// The spectrum of `a` (symmetric, entries of order 1).
+    fn of(a: [[f64; 3]; 3]) -> Self {
+        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+        let diag = [a[0][0] - q, a[1][1] - q, a[2][2] - q];
+        let p2 = diag[0] * diag[0] + diag[1] * diag[1] + diag[2] * diag[2] + 2.0 * off;
+        if p2 <= 0.0 {
+            return Self::Repeated(q);
+        }
+        let p = (p2 / 6.0).sqrt();
+        let b = |i: usize, j: usize| (a[i][j] - if i == j { q } else { 0.0 }) / p;
+        let det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1))
+            - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0))
+            + b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0));
+        let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+        Self::Trigonometric { q, p, phi }
     }
-    let p = (p2 / 6.0).sqrt();
-    let b = |i: usize, j: usize| (a[i][j] - if i == j { q } else { 0.0 }) / p;
-    let det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1))
-        - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0))
-        + b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0));
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-    let largest = q + 2.0 * p * phi.cos();
-    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
-    let middle = 3.0 * q - largest - smallest;
-    [smallest, middle, largest]
+
+    /// The smallest eigenvalue.
+    fn smallest(self) -> f64 {
+        match self {
+            Self::Repeated(q) => q,
+            Self::Trigonometric { q, p, phi } => {
+                q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos()
+            }
+        }
+    }
+
+    /// The largest eigenvalue.
+    fn largest(self) -> f64 {
+        match self {
+            Self::Repeated(q) => q,
+            Self::Trigonometric { q, p, phi } => q + 2.0 * p * phi.cos(),
+        }
+    }
 }
 
 /// The unit eigenvector for a simple eigenvalue: the longest cross product of two rows of

@@ -9,6 +9,10 @@ use crate::Point;
 /// coarser cells.
 const MAX_COLUMNS: usize = 1 << 22;
 
+/// Most z-cells for which columns are ordered by one counting sort over the z-cells (a
+/// LiDAR scan spans a few dozen); taller clouds sort column by column.
+const MAX_ZCELLS: usize = 1 << 16;
+
 /// Most cells along one axis (keeps cell coordinates far inside `i32`).
 const MAX_CELLS_PER_AXIS: f64 = (1u64 << 30) as f64;
 
@@ -36,6 +40,9 @@ pub(crate) struct CellGrid {
     point_zcell: Vec<i32>,
     /// Scratch: the (z-cell, index) pairs of one column while sorting it.
     column_scratch: Vec<(i32, u32)>,
+    /// Scratch: the kept points by z-cell, then index, and each z-cell's start among them.
+    by_zcell: Vec<u32>,
+    zcell_start: Vec<u32>,
     /// Scratch: per neighbouring column, the next of its cells that may still be in reach.
     cursors: Vec<(usize, usize)>,
 }
@@ -97,16 +104,24 @@ impl CellGrid {
         }
         self.order.clear();
         self.order.resize(kept, 0);
+        // Points in (z-cell, index) order, when the cloud is not too tall for a table of
+        // z-cells: scattered into columns in that order, every column comes out sorted.
+        let z_sorted = self.sort_by_zcell(kept);
         {
             // Scatter, using column_cells[c] as the write cursor of column c (shifted back below).
             let cursor = &mut self.column_cells;
-            for (i, &column) in self.point_column.iter().enumerate() {
-                if column == u32::MAX {
-                    continue;
-                }
+            let mut place = |i: u32| {
+                let column = self.point_column[i as usize];
                 let slot = &mut cursor[column as usize];
-                self.order[*slot as usize] = i as u32;
+                self.order[*slot as usize] = i;
                 *slot += 1;
+            };
+            if z_sorted {
+                self.by_zcell.iter().for_each(|&i| place(i));
+            } else {
+                (0..self.point_column.len() as u32)
+                    .filter(|&i| self.point_column[i as usize] != u32::MAX)
+                    .for_each(place);
             }
             // cursor[c] now holds the end of column c = start of column c + 1.
             for c in (1..=columns).rev() {
@@ -115,7 +130,8 @@ impl CellGrid {
             cursor[0] = 0;
         }
 
-        // Sort every column by z-cell (then index, for determinism) and cut it into cells.
+        // Sort every column by z-cell (then index, for determinism) unless it already is, and
+        // cut it into cells.
         self.cell_start.clear();
         self.cell_coord.clear();
         let mut column_start = 0u32;
@@ -127,7 +143,7 @@ impl CellGrid {
                 continue;
             }
             let run = &mut self.order[column_start as usize..column_end as usize];
-            if run.len() > 1 {
+            if !z_sorted && run.len() > 1 {
                 self.column_scratch.clear();
                 self.column_scratch
                     .extend(run.iter().map(|&i| (self.point_zcell[i as usize], i)));
@@ -155,6 +171,43 @@ impl CellGrid {
         self.xyz
             .extend(self.order.iter().map(|&i| points[i as usize].xyz()));
         side
+    }
+
+    /// Fills `by_zcell` with the kept points (`kept` of them) ordered by z-cell, then index,
+    /// with a counting sort over the z-cells; returns false, leaving it untouched, when
+    /// there are more than [`MAX_ZCELLS`] z-cells.
+    fn sort_by_zcell(&mut self, kept: usize) -> bool {
+        let mut top = 0;
+        for (&column, &cz) in self.point_column.iter().zip(&self.point_zcell) {
+            if column != u32::MAX {
+                top = top.max(cz);
+            }
+        }
+        let zcells = top as usize + 1;
+        if zcells > MAX_ZCELLS {
+            return false;
+        }
+        let start = &mut self.zcell_start;
+        start.clear();
+        start.resize(zcells + 1, 0);
+        for (&column, &cz) in self.point_column.iter().zip(&self.point_zcell) {
+            if column != u32::MAX {
+                start[cz as usize + 1] += 1;
+            }
+        }
+        for z in 0..zcells {
+            start[z + 1] += start[z];
+        }
+        self.by_zcell.clear();
+        self.by_zcell.resize(kept, 0);
+        for (i, (&column, &cz)) in self.point_column.iter().zip(&self.point_zcell).enumerate() {
+            if column != u32::MAX {
+                let slot = &mut start[cz as usize];
+                self.by_zcell[*slot as usize] = i as u32;
+                *slot += 1;
+            }
+        }
+        true
     }
 
     /// Number of cells.
@@ -340,6 +393,38 @@ mod tests {
             let mut got = near.to_vec();
             got.sort_unstable();
             assert_eq!(got, expected);
+        }
+    }
+
+    /// Every cell's points are in ascending index order, and a column's cells rise in z.
+    fn assert_ordered(grid: &CellGrid) {
+        for cell in 0..grid.cell_count() {
+            let order = &grid.order()[grid.cell_range(cell)];
+            assert!(order.windows(2).all(|w| w[0] < w[1]));
+            if cell + 1 < grid.cell_count() {
+                let (a, b) = (grid.cell_coord(cell), grid.cell_coord(cell + 1));
+                assert!(a[..2] != b[..2] || a[2] < b[2], "{a:?} {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn columns_come_out_sorted_by_height_whether_short_or_tall() {
+        let mut state = 5u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        // A scan-like cloud (a few dozen z-cells) and a tower taller than MAX_ZCELLS cells.
+        for height in [8.0f32, 1.0e5] {
+            let points: Vec<Point> = (0..3000)
+                .map(|_| Point::new(next() * 4.0, next() * 4.0, next() * height, 0.0))
+                .collect();
+            let grid = grid_of(&points, 0.5);
+            assert_eq!(grid.order().len(), points.len());
+            assert_ordered(&grid);
         }
     }
 

@@ -73,9 +73,8 @@ pub fn vfh_signature(points: &[[f32; 3]], normals: &[[f32; 3]], viewpoint: [f32;
             continue;
         };
         for (block, f) in features.into_iter().enumerate() {
-            let raw = (FEATURE_BINS as f64 * ((f as f64 + std::f64::consts::PI) * D_PI as f64))
-                .floor() as i32;
-            let index = raw.clamp(0, FEATURE_BINS as i32 - 1) as usize;
+            let raw = FEATURE_BINS as f64 * ((f as f64 + std::f64::consts::PI) * D_PI as f64);
+            let index = floor_clamped(raw, FEATURE_BINS);
             bins[block * FEATURE_BINS + index] += increment;
         }
     }
@@ -86,8 +85,7 @@ pub fn vfh_signature(points: &[[f32; 3]], normals: &[[f32; 3]], viewpoint: [f32;
     for q in normals {
         let q4: V4 = [q[0], q[1], q[2], 0.0];
         let alpha = (dot(q4, d_vp_p) as f64 + 1.0) * 0.5;
-        let raw = (alpha * VIEWPOINT_BINS as f64).floor();
-        let index = raw.clamp(0.0, (VIEWPOINT_BINS - 1) as f64) as usize;
+        let index = floor_clamped(alpha * VIEWPOINT_BINS as f64, VIEWPOINT_BINS);
         bins[offset + index] += increment;
     }
     Vfh { bins }
@@ -106,7 +104,7 @@ fn pair_features(p1: V4, n1: V4, p2: V4, n2: V4) -> Option<[f32; 3]> {
     let mut n2_copy = [n2[0], n2[1], n2[2], 0.0];
     let angle1 = dot(n1_copy, dp2p1) / f4;
     let angle2 = dot(n2_copy, dp2p1) / f4;
-    let f3 = if angle1.abs().acos() > angle2.abs().acos() {
+    let f3 = if farther_from_the_line(angle1, angle2) {
         std::mem::swap(&mut n1_copy, &mut n2_copy);
         dp2p1 = dp2p1.map(|c| -c);
         -angle2
@@ -125,6 +123,32 @@ fn pair_features(p1: V4, n1: V4, p2: V4, n2: V4) -> Option<[f32; 3]> {
     w[3] = 0.0;
     let f1 = dot(w, n2_copy).atan2(dot(n1_copy, n2_copy));
     Some([f1, f2, f3])
+}
+
+/// PCL's swap test `acos(|angle1|) > acos(|angle2|)`, with the two `acos` calls only where
+/// the cosines are too close for their order to tell (or one is out of acos's domain, NaN
+/// there). acos falls with a slope of at least 1 in magnitude, so cosines more than
+/// [`ACOS_ORDER_GAP`] apart have angles more than 8 ulp (of π/2) apart, and libm's acosf,
+/// within an ulp or two, keeps their order.
+#[inline]
+fn farther_from_the_line(angle1: f32, angle2: f32) -> bool {
+    let (a1, a2) = (angle1.abs(), angle2.abs());
+    if a1 <= 1.0 && a2 <= 1.0 && (a1 - a2).abs() > ACOS_ORDER_GAP {
+        a1 < a2
+    } else {
+        a1.acos() > a2.acos()
+    }
+}
+
+/// See [`farther_from_the_line`]: 8 ulp of π/2 in `f32`.
+const ACOS_ORDER_GAP: f32 = 1e-6;
+
+/// `floor(x)` clamped to `0..bins` as an index. A truncating cast equals floor for x ≥ 0 and
+/// lands on 0 or below for x < 0, where the clamp gives 0 either way (NaN gives 0 as well),
+/// without the libm call `f64::floor` costs on baseline x86-64.
+#[inline]
+fn floor_clamped(x: f64, bins: usize) -> usize {
+    (x as i32).clamp(0, bins as i32 - 1) as usize
 }
 
 /// `a - b`.
@@ -214,6 +238,55 @@ mod tests {
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 1.0).sqrt();
         let bin = (((d[2] / len) as f64 + 1.0) * 0.5 * 128.0).floor() as usize;
         assert!(vp[bin] > 99.0, "expected bin {bin}: {vp:?}");
+    }
+
+    #[test]
+    fn the_swap_test_agrees_with_acos_everywhere() {
+        let mut state = 3u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        for _ in 0..200_000 {
+            let a = next() * 1.000_001;
+            // Near pairs, one or a few ulp apart, and far pairs.
+            let b = match (next() * 3.0) as i32 {
+                -2 | -1 => f32::from_bits(a.to_bits().wrapping_add((next() * 9.0) as u32)),
+                0 => -a,
+                _ => next(),
+            };
+            for (x, y) in [(a, b), (b, a)] {
+                assert_eq!(
+                    farther_from_the_line(x, y),
+                    x.abs().acos() > y.abs().acos(),
+                    "{x} {y}"
+                );
+            }
+        }
+        assert!(!farther_from_the_line(f32::NAN, 0.5));
+        assert!(!farther_from_the_line(0.2, 1.000_001));
+    }
+
+    #[test]
+    fn floor_clamped_equals_floor_then_clamp() {
+        for x in [
+            -3.5,
+            -1.0,
+            -0.5,
+            -0.0,
+            0.0,
+            0.3,
+            1.0,
+            44.9,
+            45.0,
+            1e12,
+            f64::NAN,
+        ] {
+            let expected = (x.floor() as i32).clamp(0, 44) as usize;
+            assert_eq!(floor_clamped(x, 45), expected, "{x}");
+        }
     }
 
     #[test]
