@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use crate::Point;
 pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
+use ray::VoxelWalk;
 
 /// The occupancy map's parameters (OctoMap's defaults where it has one).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -144,21 +145,20 @@ impl OccupancyMap {
         }
 
         let max_range = self.config.max_ray_range;
-        let mut cache = ray::BlockCache::default();
         for key in &hit_keys {
             let end = Vector3::new(
                 (f64::from(key[0]) + 0.5) * res,
                 (f64::from(key[1]) + 0.5) * res,
                 (f64::from(key[2]) + 0.5) * res,
             );
-            self.clear_ray(&sensor, &end, max_range, &mut cache);
+            self.clear_ray(&sensor, &end, max_range);
         }
         self.thin_ground(ground);
         let cells = std::mem::take(&mut self.ground_cells);
         for &(_, i) in &cells {
             let p = &ground[i];
             let end = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
-            self.clear_ray(&sensor, &end, max_range, &mut cache);
+            self.clear_ray(&sensor, &end, max_range);
         }
         self.ground_cells = cells;
 
@@ -276,14 +276,9 @@ impl OccupancyMap {
     }
 
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
-    /// (the end voxel excluded), at most once per scan.
-    fn clear_ray(
-        &mut self,
-        from: &Vector3<f64>,
-        to: &Vector3<f64>,
-        max_range: f64,
-        cache: &mut ray::BlockCache,
-    ) {
+    /// (the end voxel excluded), at most once per scan. Blocks the map does not hold are
+    /// jumped over whole.
+    fn clear_ray(&mut self, from: &Vector3<f64>, to: &Vector3<f64>, max_range: f64) {
         let (scan, log_miss, log_min) = (self.scan, self.log_miss, self.log_min);
         let delta = to - from;
         let length = delta.norm();
@@ -293,17 +288,23 @@ impl OccupancyMap {
             *to
         };
         let res = self.config.resolution;
-        let (blocks, index) = (&mut self.blocks, &self.index);
-        ray::traverse(from / res, end / res, |key| {
-            let Some(b) = cache.lookup(block_key(key), index) else {
-                return;
+        let mut walk = VoxelWalk::new(from / res, end / res);
+        while let Some(key) = walk.current() {
+            let Some(&b) = self.index.get(&block_key(key)) else {
+                walk.leave_block();
+                continue;
             };
-            let v = &mut blocks[b as usize].voxels[local_index(key)];
-            if v.stamp != scan {
-                v.stamp = scan;
-                v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
+            let voxels = &mut self.blocks[b as usize].voxels;
+            let mut next = Some(key);
+            while let Some(key) = next {
+                let v = &mut voxels[local_index(key)];
+                if v.stamp != scan {
+                    v.stamp = scan;
+                    v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
+                }
+                next = walk.advance();
             }
-        });
+        }
     }
 
     /// Keeps one ground point per `ground_ray_cell` square (the first in scan order).
