@@ -7,6 +7,7 @@
 use nalgebra::Vector3;
 
 use super::block::BLOCK_SIDE;
+use super::key::{floor_i32, local_index};
 
 /// The voxels a segment (in voxel units) crosses, in order, the voxel holding its end
 /// excluded. Where two boundaries are crossed at the same parameter the higher axis steps
@@ -29,16 +30,8 @@ pub(super) struct VoxelWalk {
 impl VoxelWalk {
     /// A walk from the voxel holding `from` towards the voxel holding `to`.
     pub fn new(from: Vector3<f64>, to: Vector3<f64>) -> Self {
-        let key = [
-            from.x.floor() as i32,
-            from.y.floor() as i32,
-            from.z.floor() as i32,
-        ];
-        let end = [
-            to.x.floor() as i32,
-            to.y.floor() as i32,
-            to.z.floor() as i32,
-        ];
+        let key = [floor_i32(from.x), floor_i32(from.y), floor_i32(from.z)];
+        let end = [floor_i32(to.x), floor_i32(to.y), floor_i32(to.z)];
         let dir = to - from;
         let mut step = [0i32; 3];
         let mut t_first = [f64::INFINITY; 3];
@@ -73,20 +66,24 @@ impl VoxelWalk {
         (self.remaining > 0).then_some(self.key)
     }
 
-    /// Steps to the next voxel; it is returned while the walk goes on inside the same block.
-    pub fn advance(&mut self) -> Option<[i32; 3]> {
-        let t = &self.t_next;
-        let a = if t[0] < t[1] {
-            if t[0] < t[2] { 0 } else { 2 }
-        } else if t[1] < t[2] {
-            1
-        } else {
-            2
-        };
-        self.remaining -= 1;
-        self.cross(a, 1);
-        let same_block = self.key[a].rem_euclid(BLOCK_SIDE as i32) != self.entry_local(a);
-        (self.remaining > 0 && same_block).then_some(self.key)
+    /// Calls `visit` with the slot (see [`local_index`]) of every voxel of the walk inside the
+    /// current block, in order, and stops at the first voxel outside it (or at the end).
+    pub fn through_block(&mut self, mut visit: impl FnMut(usize)) {
+        let side = BLOCK_SIDE as i32;
+        let stride = [1, side, side * side];
+        let mut local = self.key.map(|v| v & (side - 1));
+        let mut slot = local_index(self.key) as i32;
+        while self.remaining > 0 {
+            visit(slot as usize);
+            let a = self.next_axis();
+            self.remaining -= 1;
+            self.cross(a, 1);
+            local[a] += self.step[a];
+            if !(0..side).contains(&local[a]) {
+                return;
+            }
+            slot += self.step[a] * stride[a];
+        }
     }
 
     /// Jumps to the first voxel of the walk outside the current block (or ends the walk, when
@@ -98,7 +95,7 @@ impl VoxelWalk {
         let mut exit_t = [f64::INFINITY; 3];
         for a in 0..3 {
             if self.step[a] != 0 {
-                let local = self.key[a].rem_euclid(BLOCK_SIDE as i32) as u32;
+                let local = (self.key[a] & (BLOCK_SIDE as i32 - 1)) as u32;
                 to_exit[a] = if self.step[a] > 0 {
                     side - local
                 } else {
@@ -107,18 +104,11 @@ impl VoxelWalk {
                 exit_t[a] = self.crossing_t(a, self.crossed[a] + to_exit[a] - 1);
             }
         }
-        // The axis that leaves first, ties to the higher axis as in `advance`.
-        let exit = if exit_t[0] < exit_t[1] {
-            if exit_t[0] < exit_t[2] { 0 } else { 2 }
-        } else if exit_t[1] < exit_t[2] {
-            1
-        } else {
-            2
-        };
+        let exit = first_axis(&exit_t);
         let t_exit = exit_t[exit];
         let mut counts = [0u32; 3];
         for a in (0..3).filter(|&a| a != exit && self.step[a] != 0) {
-            // Crossings along `a` that come before the exit, which `advance` would have made
+            // Crossings along `a` that come before the exit, which stepping would have made
             // first: earlier, or at the same parameter on a higher axis.
             let before = |t: f64| t < t_exit || (t == t_exit && a > exit);
             while counts[a] + 1 < to_exit[a]
@@ -141,13 +131,9 @@ impl VoxelWalk {
         }
     }
 
-    /// The local index, along axis `a`, of the voxel a step along `a` enters a block by.
-    fn entry_local(&self, a: usize) -> i32 {
-        if self.step[a] > 0 {
-            0
-        } else {
-            BLOCK_SIDE as i32 - 1
-        }
+    /// The axis whose boundary the walk crosses next.
+    fn next_axis(&self) -> usize {
+        first_axis(&self.t_next)
     }
 
     /// Makes `n` more boundary crossings along axis `a`.
@@ -163,18 +149,40 @@ impl VoxelWalk {
     }
 }
 
+/// The axis of the smallest parameter, ties to the higher axis.
+fn first_axis(t: &[f64; 3]) -> usize {
+    if t[0] < t[1] {
+        if t[0] < t[2] { 0 } else { 2 }
+    } else if t[1] < t[2] {
+        1
+    } else {
+        2
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The plain voxel-by-voxel walk.
     fn walk(from: [f64; 3], to: [f64; 3]) -> Vec<[i32; 3]> {
         let mut cells = Vec::new();
         let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
         while let Some(k) = w.current() {
             cells.push(k);
-            w.advance();
+            let a = w.next_axis();
+            w.remaining -= 1;
+            w.cross(a, 1);
         }
         cells
+    }
+
+    /// The voxel of slot `slot` in the block holding voxel `key`.
+    fn voxel_of(key: [i32; 3], slot: usize) -> [i32; 3] {
+        let side = BLOCK_SIDE as i32;
+        let slot = slot as i32;
+        let local = [slot % side, (slot / side) % side, slot / (side * side)];
+        [0, 1, 2].map(|a| key[a].div_euclid(side) * side + local[a])
     }
 
     /// The walk with every block whose key `skip` says jumped over.
@@ -191,10 +199,7 @@ mod tests {
                 w.leave_block();
                 continue;
             }
-            cells.push(k);
-            while let Some(k) = w.advance() {
-                cells.push(k);
-            }
+            w.through_block(|slot| cells.push(voxel_of(k, slot)));
         }
         cells
     }
@@ -243,7 +248,7 @@ mod tests {
                 to[2] = from[2];
             }
             let all = walk(from, to);
-            // Every block present: nothing is jumped over.
+            // Every block present: block by block is voxel by voxel.
             assert_eq!(walk_skipping(from, to, |_| false), all);
             // A pseudo-random half of the blocks absent: what is left is what stepping gives
             // outside them.
