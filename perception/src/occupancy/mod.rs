@@ -12,6 +12,7 @@ mod block;
 mod key;
 mod octomap;
 mod ray;
+mod scan;
 
 use nalgebra::Vector3;
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -22,6 +23,7 @@ pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
 use key::{block_key, floor_i32, local_index, voxel_key};
 use ray::VoxelWalk;
+pub use scan::OccupancyScan;
 
 /// The occupancy map's parameters (OctoMap's defaults where it has one).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
