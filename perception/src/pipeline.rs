@@ -12,7 +12,7 @@ use thiserror::Error;
 use crate::cluster::{ClusterError, Clustering, Dbscan};
 use crate::filter::Filter;
 use crate::ground::GroundRemoval;
-use crate::occupancy::OccupancyMap;
+use crate::occupancy::{OccupancyMap, OccupancyScan};
 use crate::pose::{PoseError, PoseEstimator};
 use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
 use crate::track::fragments::{Bounds, stacked_groups};
@@ -90,6 +90,9 @@ pub struct FrameOutput {
     pub timings: StageTimings,
     /// Point and cluster counts.
     pub counts: FrameCounts,
+    /// The scan's update of the occupancy map, when the pipeline hands it out (see
+    /// [`Pipeline::hand_out_occupancy`]) instead of integrating it.
+    pub occupancy_scan: Option<OccupancyScan>,
 }
 
 /// Why a scan could not be processed. The pipeline's tracks are unchanged when this is
@@ -156,6 +159,8 @@ pub struct Pipeline {
     splitter: Splitter,
     tracker: Tracker,
     occupancy: OccupancyMap,
+    /// Whether scans go out in [`FrameOutput::occupancy_scan`] instead of into `occupancy`.
+    hands_out_occupancy: bool,
     trigger: Trigger,
     ground: Ground,
     range_image: RangeImage,
@@ -197,6 +202,7 @@ impl Pipeline {
             splitter: Splitter::default(),
             tracker: Tracker::new(config.track.clone()),
             occupancy: OccupancyMap::new(config.occupancy.clone()),
+            hands_out_occupancy: false,
             trigger: Trigger::new(config.superframe.clone()),
             ground: Ground::horizontal(0.0),
             range_image: RangeImage::default(),
@@ -227,6 +233,13 @@ impl Pipeline {
     /// The occupancy map built so far.
     pub fn occupancy(&self) -> &OccupancyMap {
         &self.occupancy
+    }
+
+    /// From now on each scan's occupancy update is handed out in
+    /// [`FrameOutput::occupancy_scan`], for the caller to integrate into a map of its own (e.g.
+    /// on another thread, overlapping the next scans); [`Self::occupancy`] stays as it is.
+    pub fn hand_out_occupancy(&mut self) {
+        self.hands_out_occupancy = true;
     }
 
     /// The fleet's geodetic origin, once known (given, or the first GPS fix).
@@ -329,9 +342,19 @@ impl Pipeline {
         laps.lap("track");
         let ego_pose = world_from_odometry * pose;
 
+        let mut occupancy_scan = None;
         if tracking_frame == TrackingFrame::World {
-            self.occupancy
-                .integrate(pose.translation.vector, &b.obstacles_world, &b.ground_world);
+            let sensor = pose.translation.vector;
+            if self.hands_out_occupancy {
+                occupancy_scan = Some(OccupancyScan {
+                    sensor,
+                    obstacles: b.obstacles_world.clone(),
+                    ground: b.ground_world.clone(),
+                });
+            } else {
+                self.occupancy
+                    .integrate(sensor, &b.obstacles_world, &b.ground_world);
+            }
         }
         laps.lap("occupancy");
 
@@ -378,6 +401,7 @@ impl Pipeline {
                 non_ground: b.obstacles.len(),
                 clusters: b.clustering.len(),
             },
+            occupancy_scan,
         })
     }
 

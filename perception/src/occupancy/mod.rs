@@ -9,16 +9,21 @@
 
 mod bev;
 mod block;
+mod key;
 mod octomap;
 mod ray;
+mod scan;
 
 use nalgebra::Vector3;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 use serde::{Deserialize, Serialize};
 
 use crate::Point;
 pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
+use key::{block_key, floor_i32, local_index, voxel_key};
+use ray::VoxelWalk;
+pub use scan::OccupancyScan;
 
 /// The occupancy map's parameters (OctoMap's defaults where it has one).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -77,8 +82,17 @@ pub struct OccupancyMap {
     blocks: Vec<Block>,
     index: FxHashMap<[i32; 3], u32>,
     scan: u32,
-    hit_keys: Vec<[i32; 3]>,
-    ground_cells: Vec<([i32; 2], usize)>,
+    /// This scan's hit voxels (kept for its allocation).
+    hits: Vec<Hit>,
+    /// The ground cells that have had their ray this scan (kept for its allocation).
+    ground_cells: FxHashSet<[i32; 2]>,
+}
+
+/// A voxel hit by the scan being integrated.
+struct Hit {
+    key: [i32; 3],
+    block: u32,
+    slot: u16,
 }
 
 /// Scans between two passes that drop far blocks.
@@ -100,8 +114,8 @@ impl OccupancyMap {
             blocks: Vec::new(),
             index: FxHashMap::default(),
             scan: 0,
-            hit_keys: Vec::new(),
-            ground_cells: Vec::new(),
+            hits: Vec::new(),
+            ground_cells: FxHashSet::default(),
         }
     }
 
@@ -122,65 +136,91 @@ impl OccupancyMap {
 
     /// Integrates one scan: `obstacles` (world frame) are hits, and every voxel on the rays from
     /// `sensor` to them, and to a thinned set of `ground` points, takes a miss. A voxel both hit
-    /// and crossed in the same scan counts as hit, once, as in OctoMap.
+    /// and crossed in the same scan counts as hit, once, as in OctoMap. One ray goes to the
+    /// centre of each distinct hit voxel, and one to the first ground point of each
+    /// `ground_ray_cell` square (in scan order).
     pub fn integrate(&mut self, sensor: Vector3<f64>, obstacles: &[Point], ground: &[Point]) {
         self.scan += 1;
         let scan = self.scan;
         let res = self.config.resolution;
 
-        let mut hit_keys = std::mem::take(&mut self.hit_keys);
-        hit_keys.clear();
-        hit_keys.extend(
-            obstacles
-                .iter()
-                .filter(|p| p.is_finite())
-                .map(|p| self.key_of(p)),
-        );
-        hit_keys.sort_unstable();
-        hit_keys.dedup();
-        // Reserve the hit voxels first, so that rays of this scan do not clear them.
-        for key in &hit_keys {
-            self.voxel_mut_or_insert(*key).stamp = scan;
-        }
-
+        let mut hits = std::mem::take(&mut self.hits);
+        self.reserve_hits(obstacles, &mut hits);
         let max_range = self.config.max_ray_range;
-        let mut cache = ray::BlockCache::default();
-        for key in &hit_keys {
-            let end = Vector3::new(
-                (f64::from(key[0]) + 0.5) * res,
-                (f64::from(key[1]) + 0.5) * res,
-                (f64::from(key[2]) + 0.5) * res,
-            );
-            self.clear_ray(&sensor, &end, max_range, &mut cache);
+        for hit in &hits {
+            let end = hit.key.map(|v| (f64::from(v) + 0.5) * res);
+            self.clear_ray(&sensor, &Vector3::from(end), max_range);
         }
-        self.thin_ground(ground);
-        let cells = std::mem::take(&mut self.ground_cells);
-        for &(_, i) in &cells {
-            let p = &ground[i];
-            let end = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
-            self.clear_ray(&sensor, &end, max_range, &mut cache);
+        let mut cells = std::mem::take(&mut self.ground_cells);
+        cells.clear();
+        let per_cell = 1.0 / self.config.ground_ray_cell;
+        for p in ground.iter().filter(|p| p.is_finite()) {
+            let cell = [
+                floor_i32(f64::from(p.x) * per_cell),
+                floor_i32(f64::from(p.y) * per_cell),
+            ];
+            if cells.insert(cell) {
+                let end = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
+                self.clear_ray(&sensor, &end, max_range);
+            }
         }
         self.ground_cells = cells;
 
-        for key in &hit_keys {
-            let (log_hit, log_max) = (self.log_hit, self.log_max);
-            let v = self.voxel_mut_or_insert(*key);
+        let (log_hit, log_max) = (self.log_hit, self.log_max);
+        for hit in &hits {
+            let v = &mut self.blocks[hit.block as usize].voxels[usize::from(hit.slot)];
             let was_occupied = v.is_occupied();
             v.log_odds = (v.known_log_odds() + log_hit).min(log_max);
             if !was_occupied {
                 v.since = scan;
             }
         }
-        self.hit_keys = hit_keys;
+        self.hits = hits;
 
         if scan.is_multiple_of(PRUNE_EVERY) {
             self.forget_far_blocks(&sensor);
         }
     }
 
+    /// Fills `hits` with the distinct voxels of `obstacles`, their blocks allocated and each
+    /// stamped with this scan, so that the scan's rays do not clear them.
+    fn reserve_hits(&mut self, obstacles: &[Point], hits: &mut Vec<Hit>) {
+        hits.clear();
+        let (scan, inverse_resolution) = (self.scan, 1.0 / self.config.resolution);
+        // Consecutive points of a scan mostly share a block: look it up once.
+        let mut last: Option<([i32; 3], u32)> = None;
+        for p in obstacles.iter().filter(|p| p.is_finite()) {
+            let key = voxel_key(
+                f64::from(p.x),
+                f64::from(p.y),
+                f64::from(p.z),
+                inverse_resolution,
+            );
+            let bkey = block_key(key);
+            let block = match last {
+                Some((k, b)) if k == bkey => b,
+                _ => {
+                    let b = self.block_or_insert(bkey);
+                    last = Some((bkey, b));
+                    b
+                }
+            };
+            let slot = local_index(key);
+            let v = &mut self.blocks[block as usize].voxels[slot];
+            if v.stamp != scan {
+                v.stamp = scan;
+                hits.push(Hit {
+                    key,
+                    block,
+                    slot: slot as u16,
+                });
+            }
+        }
+    }
+
     /// What the map knows of the voxel holding `p`; `None` while it is unknown.
     pub fn voxel(&self, p: &Vector3<f64>) -> Option<VoxelState> {
-        let key = self.key_of_f64(p);
+        let key = voxel_key(p.x, p.y, p.z, 1.0 / self.config.resolution);
         let block = self.index.get(&block_key(key))?;
         let v = self.blocks[*block as usize].voxels[local_index(key)];
         v.is_known().then(|| VoxelState {
@@ -248,42 +288,20 @@ impl OccupancyMap {
         })
     }
 
-    fn key_of(&self, p: &Point) -> [i32; 3] {
-        let inv = 1.0 / self.config.resolution;
-        [
-            (f64::from(p.x) * inv).floor() as i32,
-            (f64::from(p.y) * inv).floor() as i32,
-            (f64::from(p.z) * inv).floor() as i32,
-        ]
-    }
-
-    fn key_of_f64(&self, p: &Vector3<f64>) -> [i32; 3] {
-        let inv = 1.0 / self.config.resolution;
-        [
-            (p.x * inv).floor() as i32,
-            (p.y * inv).floor() as i32,
-            (p.z * inv).floor() as i32,
-        ]
-    }
-
-    fn voxel_mut_or_insert(&mut self, key: [i32; 3]) -> &mut Voxel {
+    /// The slot of block `key`, allocated (all unknown) if the map has no such block.
+    fn block_or_insert(&mut self, key: [i32; 3]) -> u32 {
         let next = self.blocks.len() as u32;
-        let b = *self.index.entry(block_key(key)).or_insert(next);
+        let b = *self.index.entry(key).or_insert(next);
         if b == next {
             self.blocks.push(Block::default());
         }
-        &mut self.blocks[b as usize].voxels[local_index(key)]
+        b
     }
 
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
-    /// (the end voxel excluded), at most once per scan.
-    fn clear_ray(
-        &mut self,
-        from: &Vector3<f64>,
-        to: &Vector3<f64>,
-        max_range: f64,
-        cache: &mut ray::BlockCache,
-    ) {
+    /// (the end voxel excluded), at most once per scan. Blocks the map does not hold are
+    /// jumped over whole.
+    fn clear_ray(&mut self, from: &Vector3<f64>, to: &Vector3<f64>, max_range: f64) {
         let (scan, log_miss, log_min) = (self.scan, self.log_miss, self.log_min);
         let delta = to - from;
         let length = delta.norm();
@@ -293,40 +311,21 @@ impl OccupancyMap {
             *to
         };
         let res = self.config.resolution;
-        let (blocks, index) = (&mut self.blocks, &self.index);
-        ray::traverse(from / res, end / res, |key| {
-            let Some(b) = cache.lookup(block_key(key), index) else {
-                return;
+        let mut walk = VoxelWalk::new(from / res, end / res);
+        while let Some(key) = walk.current() {
+            let Some(&b) = self.index.get(&block_key(key)) else {
+                walk.leave_block();
+                continue;
             };
-            let v = &mut blocks[b as usize].voxels[local_index(key)];
-            if v.stamp != scan {
-                v.stamp = scan;
-                v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
-            }
-        });
-    }
-
-    /// Keeps one ground point per `ground_ray_cell` square (the first in scan order).
-    fn thin_ground(&mut self, ground: &[Point]) {
-        let inv = 1.0 / self.config.ground_ray_cell;
-        self.ground_cells.clear();
-        self.ground_cells.extend(
-            ground
-                .iter()
-                .enumerate()
-                .filter(|(_, p)| p.is_finite())
-                .map(|(i, p)| {
-                    (
-                        [
-                            (p.x as f64 * inv).floor() as i32,
-                            (p.y as f64 * inv).floor() as i32,
-                        ],
-                        i,
-                    )
-                }),
-        );
-        self.ground_cells.sort_unstable();
-        self.ground_cells.dedup_by_key(|(cell, _)| *cell);
+            let voxels = &mut self.blocks[b as usize].voxels;
+            walk.through_block(|slot| {
+                let v = &mut voxels[slot];
+                if v.stamp != scan {
+                    v.stamp = scan;
+                    v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
+                }
+            });
+        }
     }
 
     fn forget_far_blocks(&mut self, sensor: &Vector3<f64>) {
@@ -352,17 +351,6 @@ impl OccupancyMap {
             }
         }
     }
-}
-
-fn block_key(key: [i32; 3]) -> [i32; 3] {
-    let s = BLOCK_SIDE.trailing_zeros();
-    [key[0] >> s, key[1] >> s, key[2] >> s]
-}
-
-fn local_index(key: [i32; 3]) -> usize {
-    let m = BLOCK_SIDE as i32 - 1;
-    let s = BLOCK_SIDE;
-    (key[0] & m) as usize + (key[1] & m) as usize * s + (key[2] & m) as usize * s * s
 }
 
 #[cfg(test)]

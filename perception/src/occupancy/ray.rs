@@ -1,70 +1,162 @@
-//! Voxel traversal along a ray (Amanatides & Woo), and the block lookup cache rays use.
+//! Voxel traversal along a ray (Amanatides & Woo) that can jump over a whole block at once.
+//!
+//! The parameter of the `j`-th boundary crossing along an axis is computed as
+//! `first + j · delta` (not accumulated step by step), so that jumping over a block lands on
+//! exactly the voxel stepping through it would reach.
 
 use nalgebra::Vector3;
-use rustc_hash::FxHashMap;
 
-/// Calls `visit` with the index of every voxel the segment `from → to` (in voxel units)
-/// crosses, in order, the voxel holding `to` excluded.
-pub(super) fn traverse(from: Vector3<f64>, to: Vector3<f64>, mut visit: impl FnMut([i32; 3])) {
-    let mut key = [
-        from.x.floor() as i32,
-        from.y.floor() as i32,
-        from.z.floor() as i32,
-    ];
-    let end = [
-        to.x.floor() as i32,
-        to.y.floor() as i32,
-        to.z.floor() as i32,
-    ];
-    let dir = to - from;
-    let mut step = [0i32; 3];
-    let mut t_max = [f64::INFINITY; 3];
-    let mut t_delta = [f64::INFINITY; 3];
-    for a in 0..3 {
-        if dir[a] > 0.0 {
-            step[a] = 1;
-            t_max[a] = (f64::from(key[a]) + 1.0 - from[a]) / dir[a];
-            t_delta[a] = 1.0 / dir[a];
-        } else if dir[a] < 0.0 {
-            step[a] = -1;
-            t_max[a] = (f64::from(key[a]) - from[a]) / dir[a];
-            t_delta[a] = -1.0 / dir[a];
-        }
-    }
-    // The exact number of cell changes between the two ends bounds the walk, so rounding can
-    // never make it run away.
-    let steps: i32 = (0..3).map(|a| (end[a] - key[a]).abs()).sum();
-    for _ in 0..steps {
-        visit(key);
-        let a = if t_max[0] < t_max[1] {
-            if t_max[0] < t_max[2] { 0 } else { 2 }
-        } else if t_max[1] < t_max[2] {
-            1
-        } else {
-            2
-        };
-        key[a] += step[a];
-        t_max[a] += t_delta[a];
-    }
+use super::block::BLOCK_SIDE;
+use super::key::{floor_i32, local_index};
+
+/// The voxels a segment (in voxel units) crosses, in order, the voxel holding its end
+/// excluded. Where two boundaries are crossed at the same parameter the higher axis steps
+/// first.
+pub(super) struct VoxelWalk {
+    key: [i32; 3],
+    step: [i32; 3],
+    /// Parameter of each axis' first boundary crossing (infinite along an axis not moved on).
+    t_first: [f64; 3],
+    /// Parameter between two boundary crossings of each axis.
+    t_delta: [f64; 3],
+    /// Boundary crossings made so far along each axis.
+    crossed: [u32; 3],
+    /// Parameter of each axis' next boundary crossing.
+    t_next: [f64; 3],
+    /// Voxels still to visit, the current one included.
+    remaining: u32,
 }
 
-/// The last block looked up, so that a ray pays one hash lookup per block it crosses.
-#[derive(Default)]
-pub(super) struct BlockCache {
-    last: Option<([i32; 3], Option<u32>)>,
-}
-
-impl BlockCache {
-    /// The slot of block `key`, or `None` when the map has no such block.
-    pub fn lookup(&mut self, key: [i32; 3], index: &FxHashMap<[i32; 3], u32>) -> Option<u32> {
-        match self.last {
-            Some((k, slot)) if k == key => slot,
-            _ => {
-                let slot = index.get(&key).copied();
-                self.last = Some((key, slot));
-                slot
+impl VoxelWalk {
+    /// A walk from the voxel holding `from` towards the voxel holding `to`.
+    pub fn new(from: Vector3<f64>, to: Vector3<f64>) -> Self {
+        let key = [floor_i32(from.x), floor_i32(from.y), floor_i32(from.z)];
+        let end = [floor_i32(to.x), floor_i32(to.y), floor_i32(to.z)];
+        let dir = to - from;
+        let mut step = [0i32; 3];
+        let mut t_first = [f64::INFINITY; 3];
+        let mut t_delta = [f64::INFINITY; 3];
+        for a in 0..3 {
+            if dir[a] > 0.0 {
+                step[a] = 1;
+                t_first[a] = (f64::from(key[a]) + 1.0 - from[a]) / dir[a];
+                t_delta[a] = 1.0 / dir[a];
+            } else if dir[a] < 0.0 {
+                step[a] = -1;
+                t_first[a] = (f64::from(key[a]) - from[a]) / dir[a];
+                t_delta[a] = -1.0 / dir[a];
             }
         }
+        // The exact number of cell changes between the two ends bounds the walk, so rounding
+        // can never make it run away.
+        let remaining = (0..3).map(|a| key[a].abs_diff(end[a])).sum();
+        Self {
+            key,
+            step,
+            t_first,
+            t_delta,
+            crossed: [0; 3],
+            t_next: t_first,
+            remaining,
+        }
+    }
+
+    /// The voxel the walk is at, `None` once it is over.
+    pub fn current(&self) -> Option<[i32; 3]> {
+        (self.remaining > 0).then_some(self.key)
+    }
+
+    /// Calls `visit` with the slot (see [`local_index`]) of every voxel of the walk inside the
+    /// current block, in order, and stops at the first voxel outside it (or at the end).
+    pub fn through_block(&mut self, mut visit: impl FnMut(usize)) {
+        let side = BLOCK_SIDE as i32;
+        let stride = [1, side, side * side];
+        let mut local = self.key.map(|v| v & (side - 1));
+        let mut slot = local_index(self.key) as i32;
+        while self.remaining > 0 {
+            visit(slot as usize);
+            let a = self.next_axis();
+            self.remaining -= 1;
+            self.cross(a, 1);
+            local[a] += self.step[a];
+            if !(0..side).contains(&local[a]) {
+                return;
+            }
+            slot += self.step[a] * stride[a];
+        }
+    }
+
+    /// Jumps to the first voxel of the walk outside the current block (or ends the walk, when
+    /// it ends inside the block).
+    pub fn leave_block(&mut self) {
+        let side = BLOCK_SIDE as u32;
+        // Crossings along each axis that take it out of the block, and when the last happens.
+        let mut to_exit = [u32::MAX; 3];
+        let mut exit_t = [f64::INFINITY; 3];
+        for a in 0..3 {
+            if self.step[a] != 0 {
+                let local = (self.key[a] & (BLOCK_SIDE as i32 - 1)) as u32;
+                to_exit[a] = if self.step[a] > 0 {
+                    side - local
+                } else {
+                    local + 1
+                };
+                exit_t[a] = self.crossing_t(a, self.crossed[a] + to_exit[a] - 1);
+            }
+        }
+        let exit = first_axis(&exit_t);
+        let t_exit = exit_t[exit];
+        let mut counts = [0u32; 3];
+        for a in (0..3).filter(|&a| a != exit && self.step[a] != 0) {
+            // Crossings along `a` that come before the exit, which stepping would have made
+            // first: earlier, or at the same parameter on a higher axis.
+            let before = |t: f64| t < t_exit || (t == t_exit && a > exit);
+            while counts[a] + 1 < to_exit[a]
+                && before(self.crossing_t(a, self.crossed[a] + counts[a]))
+            {
+                counts[a] += 1;
+            }
+        }
+        counts[exit] = to_exit[exit];
+        let steps: u32 = counts.iter().sum();
+        if steps >= self.remaining {
+            self.remaining = 0;
+            return;
+        }
+        self.remaining -= steps;
+        for (a, &n) in counts.iter().enumerate() {
+            if n > 0 {
+                self.cross(a, n);
+            }
+        }
+    }
+
+    /// The axis whose boundary the walk crosses next.
+    fn next_axis(&self) -> usize {
+        first_axis(&self.t_next)
+    }
+
+    /// Makes `n` more boundary crossings along axis `a`.
+    fn cross(&mut self, a: usize, n: u32) {
+        self.key[a] += self.step[a] * n as i32;
+        self.crossed[a] += n;
+        self.t_next[a] = self.crossing_t(a, self.crossed[a]);
+    }
+
+    /// The parameter of the `j`-th (0-based) boundary crossing along axis `a`.
+    fn crossing_t(&self, a: usize, j: u32) -> f64 {
+        self.t_first[a] + f64::from(j) * self.t_delta[a]
+    }
+}
+
+/// The axis of the smallest parameter, ties to the higher axis.
+fn first_axis(t: &[f64; 3]) -> usize {
+    if t[0] < t[1] {
+        if t[0] < t[2] { 0 } else { 2 }
+    } else if t[1] < t[2] {
+        1
+    } else {
+        2
     }
 }
 
@@ -72,9 +164,43 @@ impl BlockCache {
 mod tests {
     use super::*;
 
+    /// The plain voxel-by-voxel walk.
     fn walk(from: [f64; 3], to: [f64; 3]) -> Vec<[i32; 3]> {
         let mut cells = Vec::new();
-        traverse(Vector3::from(from), Vector3::from(to), |k| cells.push(k));
+        let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
+        while let Some(k) = w.current() {
+            cells.push(k);
+            let a = w.next_axis();
+            w.remaining -= 1;
+            w.cross(a, 1);
+        }
+        cells
+    }
+
+    /// The voxel of slot `slot` in the block holding voxel `key`.
+    fn voxel_of(key: [i32; 3], slot: usize) -> [i32; 3] {
+        let side = BLOCK_SIDE as i32;
+        let slot = slot as i32;
+        let local = [slot % side, (slot / side) % side, slot / (side * side)];
+        [0, 1, 2].map(|a| key[a].div_euclid(side) * side + local[a])
+    }
+
+    /// The walk with every block whose key `skip` says jumped over.
+    fn walk_skipping(
+        from: [f64; 3],
+        to: [f64; 3],
+        skip: impl Fn([i32; 3]) -> bool,
+    ) -> Vec<[i32; 3]> {
+        let side = BLOCK_SIDE as i32;
+        let mut cells = Vec::new();
+        let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
+        while let Some(k) = w.current() {
+            if skip(k.map(|v| v.div_euclid(side))) {
+                w.leave_block();
+                continue;
+            }
+            w.through_block(|slot| cells.push(voxel_of(k, slot)));
+        }
         cells
     }
 
@@ -100,5 +226,44 @@ mod tests {
     #[test]
     fn a_ray_inside_one_cell_visits_nothing() {
         assert!(walk([0.1, 0.1, 0.1], [0.9, 0.8, 0.2]).is_empty());
+    }
+
+    #[test]
+    fn jumping_over_blocks_lands_where_stepping_does() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = |range: f64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 * range - range
+        };
+        for _ in 0..2000 {
+            let from = [uniform(30.0), uniform(30.0), uniform(8.0)];
+            // Rays of a sensor (voxel-centre ends) and arbitrary ones, axis-parallel included.
+            let mut to = [uniform(200.0), uniform(200.0), uniform(20.0)];
+            if uniform(1.0) > 0.0 {
+                to = to.map(|v| v.floor() + 0.5);
+            }
+            if uniform(1.0) > 0.8 {
+                to[2] = from[2];
+            }
+            let all = walk(from, to);
+            // Every block present: block by block is voxel by voxel.
+            assert_eq!(walk_skipping(from, to, |_| false), all);
+            // A pseudo-random half of the blocks absent: what is left is what stepping gives
+            // outside them.
+            let absent = |b: [i32; 3]| (b[0] * 7 + b[1] * 13 + b[2] * 5).rem_euclid(3) == 0;
+            let side = BLOCK_SIDE as i32;
+            let expected: Vec<[i32; 3]> = all
+                .iter()
+                .copied()
+                .filter(|k| !absent(k.map(|v| v.div_euclid(side))))
+                .collect();
+            assert_eq!(
+                walk_skipping(from, to, absent),
+                expected,
+                "{from:?} -> {to:?}"
+            );
+        }
     }
 }

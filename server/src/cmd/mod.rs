@@ -1,5 +1,5 @@
-//! One module per subcommand: its flags (`Args`) and its entry point (`run`); `clusters_csv` is
-//! `trackd run --debug-clusters`'s file.
+//! One module per subcommand: its flags (`Args`) and its entry point (`run`); `clusters_csv`
+//! (`--debug-clusters`' file) and `occupancy_thread` (the map's thread) serve `trackd run`.
 
 pub mod bench;
 pub mod cluster;
@@ -9,6 +9,7 @@ pub mod demo;
 pub mod eval;
 pub mod health;
 pub mod info;
+pub mod occupancy_thread;
 pub mod plot;
 pub mod router;
 pub mod run;

@@ -1,7 +1,7 @@
 //! `trackd run INPUT --out DIR`: tracks objects through a recorded drive offline and writes
 //! `tracks.csv` (Velodyne frame of each scan), KITTI tracking results (camera frame, when the
 //! drive is calibrated), the super frames, the occupancy map, the ego poses and per-stage
-//! timings.
+//! timings. The occupancy map is updated on a thread of its own, overlapping the next scans.
 
 use std::collections::BTreeSet;
 use std::fs::File;
@@ -18,12 +18,15 @@ use trackd_dataset::calib::RectifiedCamera;
 use trackd_dataset::labels::{KittiLabel, write_tracking_results};
 use trackd_dataset::poses::write_poses;
 use trackd_dataset::{OpenOptions, Source, open};
+use trackd_perception::StageTimings;
+use trackd_perception::occupancy::OccupancyMap;
 use trackd_perception::pipeline::TrackingFrame;
 use trackd_perception::track::AssociationMode;
 use trackd_perception::{FrameOutput, ObjectClass, Pipeline, PipelineError, TrackState, Vehicle};
 use trackd_service::settings::Settings;
 
 use crate::cmd::clusters_csv::ClustersCsv;
+use crate::cmd::occupancy_thread::OccupancyThread;
 
 /// Header of `tracks.csv` (eval-protocol.md).
 pub const TRACKS_HEADER: &str = "frame,track_id,x,y,z,l,w,h,yaw,vx,vy,confidence,class";
@@ -102,6 +105,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .unwrap_or_else(|| settings.vehicle.imu_to_velo()),
     };
     let mut pipeline = Pipeline::new(config, vehicle);
+    pipeline.hand_out_occupancy();
+    let occupancy = OccupancyThread::spawn(pipeline.config().occupancy.clone())?;
     let mut out = Outputs::create(&args.out, source.calib().is_some(), args.debug_clusters)?;
     let progress = progress_bar(frames as u64);
     let reader = spawn_reader(source.clone(), frames);
@@ -112,7 +117,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for (i, frame) in reader.iter().enumerate() {
         let frame = frame?;
         let t0 = Instant::now();
-        let result = match pipeline.process(frame) {
+        let mut result = match pipeline.process(frame) {
             Ok(result) => result,
             // No GPS fix yet: the scan cannot be placed in the world; the next ones will.
             Err(PipelineError::Pose(e)) => {
@@ -124,6 +129,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 return Err(e).with_context(|| format!("scan {i} ({})", scan_name(&source, i)));
             }
         };
+        if let Some(scan) = result.occupancy_scan.take() {
+            occupancy.integrate(i, scan)?;
+        }
         processing += t0.elapsed().as_secs_f64();
         tracking_frame = result.tracking_frame;
         ids.extend(result.tracks.iter().map(|t| t.id));
@@ -134,7 +142,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         progress.inc(1);
     }
     progress.finish_and_clear();
-    out.finish(&pipeline, &source)?;
+    let occupancy = occupancy.finish()?;
+    out.finish(&occupancy.map, &occupancy.timings, &source)?;
     let wall = started.elapsed().as_secs_f64();
     println!(
         "{}: {frames} scans in {wall:.2} s ({:.1} Hz end to end, {:.1} Hz in the pipeline), \
@@ -199,7 +208,9 @@ struct Outputs {
     dir: PathBuf,
     tracks: BufWriter<File>,
     timings: BufWriter<File>,
-    timing_stages: Vec<&'static str>,
+    /// Each processed scan's index and stage timings, written once the occupancy thread's
+    /// timings are in.
+    frame_timings: Vec<(usize, StageTimings)>,
     kitti: Option<Vec<KittiLabel>>,
     clusters: Option<ClustersCsv>,
     /// The Velodyne pose of every processed scan in the world frame.
@@ -228,7 +239,7 @@ impl Outputs {
             dir: dir.to_path_buf(),
             tracks,
             timings: create("timings.csv")?,
-            timing_stages: Vec::new(),
+            frame_timings: Vec::new(),
             kitti: calibrated.then(Vec::new),
             clusters,
             ego_poses: Vec::new(),
@@ -275,7 +286,7 @@ impl Outputs {
                 labels.push(label);
             }
         }
-        self.write_timings(index, result)?;
+        self.frame_timings.push((index, result.timings.clone()));
         self.ego_poses.push(result.ego_pose);
         if let Some(sf) = &result.superframe {
             let path = self
@@ -288,29 +299,49 @@ impl Outputs {
         Ok(())
     }
 
-    /// One row of `timings.csv`: the frame, each stage's milliseconds, the total.
-    fn write_timings(&mut self, index: usize, result: &FrameOutput) -> anyhow::Result<()> {
-        let stages = &result.timings.stages;
-        if self.timing_stages.is_empty() {
-            self.timing_stages = stages.iter().map(|(name, _)| *name).collect();
-            let names: Vec<&str> = self.timing_stages.clone();
-            writeln!(self.timings, "frame,{},total", names.join(","))?;
-        }
-        let mut line = index.to_string();
-        for name in &self.timing_stages {
-            let ms = stages
-                .iter()
-                .find(|(n, _)| n == name)
+    /// `timings.csv`: per scan, each stage's milliseconds, `occupancy_thread` (the map's update
+    /// on its own thread, overlapping the next scans; `occupancy` is handing it over) and the
+    /// total of all.
+    fn write_timings(&mut self, occupancy: &[(usize, f64)]) -> anyhow::Result<()> {
+        let Some((_, first)) = self.frame_timings.first() else {
+            return Ok(());
+        };
+        let stages: Vec<&str> = first.stages.iter().map(|(name, _)| *name).collect();
+        writeln!(
+            self.timings,
+            "frame,{},occupancy_thread,total",
+            stages.join(",")
+        )?;
+        let mut occupancy = occupancy.iter().peekable();
+        for (index, timings) in &self.frame_timings {
+            let mut line = index.to_string();
+            for name in &stages {
+                let ms = timings
+                    .stages
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map_or(0.0, |(_, ms)| *ms);
+                line.push_str(&format!(",{ms:.3}"));
+            }
+            let thread_ms = occupancy
+                .next_if(|(i, _)| i == index)
                 .map_or(0.0, |(_, ms)| *ms);
-            line.push_str(&format!(",{ms:.3}"));
+            let total = timings.total_ms() + thread_ms;
+            writeln!(self.timings, "{line},{thread_ms:.3},{total:.3}")?;
         }
-        writeln!(self.timings, "{line},{:.3}", result.timings.total_ms())?;
         Ok(())
     }
 
-    /// Flushes the per-frame files and writes the occupancy map and the KITTI results.
-    fn finish(mut self, pipeline: &Pipeline, source: &Source) -> anyhow::Result<()> {
+    /// Flushes the per-frame files and writes the timings, the occupancy map and the KITTI
+    /// results; `occupancy_timings` are the occupancy thread's per scan.
+    fn finish(
+        mut self,
+        occupancy: &OccupancyMap,
+        occupancy_timings: &[(usize, f64)],
+        source: &Source,
+    ) -> anyhow::Result<()> {
         self.tracks.flush()?;
+        self.write_timings(occupancy_timings)?;
         self.timings.flush()?;
         if let Some(clusters) = &mut self.clusters {
             clusters.0.flush()?;
@@ -319,7 +350,7 @@ impl Outputs {
         write_poses(&poses, &self.ego_poses)
             .with_context(|| format!("writing {}", poses.display()))?;
         let bt = self.dir.join("occupancy.bt");
-        std::fs::write(&bt, pipeline.occupancy().to_bt())
+        std::fs::write(&bt, occupancy.to_bt())
             .with_context(|| format!("writing {}", bt.display()))?;
         if let Some(labels) = &self.kitti {
             let dir = self.dir.join("kitti");
