@@ -165,6 +165,12 @@ mod tests {
     use super::*;
     use crate::ObjectClass;
 
+    /// The observation of `points` by a sensor 1.73 m above the origin, scan cut at 50 m.
+    fn observe(points: &[Point], ground: &Ground) -> Observation {
+        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
+        Observer::default().observe(points, &sensor, 50.0, ground, &ClassifyConfig::default())
+    }
+
     /// A solid box of points (a grid over its four vertical faces).
     pub(crate) fn box_points(center: Vector3<f64>, l: f64, w: f64, h: f64) -> Vec<Point> {
         let mut out = Vec::new();
@@ -211,14 +217,7 @@ mod tests {
             0.2 + ground.z_below(&Vector3::new(10.0, 3.0, 0.0)),
         );
         let points = box_points(base, 4.5, 1.8, 1.3);
-        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        let o = Observer::default().observe(
-            &points,
-            &sensor,
-            50.0,
-            &ground,
-            &ClassifyConfig::default(),
-        );
+        let o = observe(&points, &ground);
         assert!(!o.shape.truncated);
         assert!((o.shape.length - 4.5).abs() < 0.1);
         assert!((o.shape.width - 1.8).abs() < 0.1);
@@ -237,14 +236,7 @@ mod tests {
         let ground = Ground::horizontal(0.0);
         let mut points = box_points(Vector3::new(5.0, 5.0, 0.0), 0.3, 0.3, 2.0);
         points.extend(box_points(Vector3::new(5.0, 5.0, 2.0), 3.0, 3.0, 1.5));
-        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        let o = Observer::default().observe(
-            &points,
-            &sensor,
-            50.0,
-            &ground,
-            &ClassifyConfig::default(),
-        );
+        let o = observe(&points, &ground);
         assert!(o.shape.upper_width > 2.5 && o.shape.lower_width < 0.5);
         assert!(matches!(o.verdict, ShapeVerdict::Structure(_)));
     }
@@ -252,20 +244,12 @@ mod tests {
     #[test]
     fn a_top_at_the_edge_of_the_field_of_view_is_truncated() {
         let ground = Ground::horizontal(0.0);
-        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
         // At 8 m the +2° ray passes 1.73 + 8 tan 2° = 2.01 m above the ground.
         let post = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.9);
-        let o =
-            Observer::default().observe(&post, &sensor, 50.0, &ground, &ClassifyConfig::default());
+        let o = observe(&post, &ground);
         assert!(o.shape.truncated);
         let person = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.5);
-        let o = Observer::default().observe(
-            &person,
-            &sensor,
-            50.0,
-            &ground,
-            &ClassifyConfig::default(),
-        );
+        let o = observe(&person, &ground);
         assert!(!o.shape.truncated);
     }
 }

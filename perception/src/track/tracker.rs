@@ -462,13 +462,14 @@ fn is_car(verdict: ShapeVerdict) -> bool {
 /// view's top only bounds the height from below (the beams that reach a distant car's roof
 /// return only now and then), so the car's top is the highest seen: a view without the roof
 /// is still the car, not a low object, and a view under the car height of a thing that was
-/// seen taller (a bush, a hedge) is not a sure car. Views cut by the range limit stay unknown.
+/// seen taller (a bush, a hedge) is not a sure car. (Views cut by the range limit are
+/// [`ShapeVerdict::Unknown`] and stay so.)
 fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> ShapeVerdict {
     let lower_bound = matches!(
         o.verdict,
         ShapeVerdict::Structure(StructureKind::TooLow) | ShapeVerdict::Object(ObjectClass::Car)
     );
-    if o.clipped || !lower_bound || car_top <= o.shape.top {
+    if !lower_bound || car_top <= o.shape.top {
         return o.verdict;
     }
     let shape = ShapeFeatures {
@@ -576,6 +577,7 @@ const PROBES: usize = 24;
 const PROBE_MIN_HEIGHT: f64 = 0.4;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
+
 /// Judges whether track `t`, just matched to `points`, moves: where it was a moment ago is
 /// free space now. Keeps fresh probes while it does not.
 fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config: &TrackConfig) {

@@ -516,42 +516,44 @@ fn draw_legend(
     Ok(())
 }
 
-/// The pixels of every drawn position: ego poses, track boxes, ground truth.
-fn drawn_points(scene: &Scene, view: &View) -> Vec<(i32, i32)> {
+/// The ego positions and the ground truth's, in the world frame (m).
+fn ego_and_gt_positions(scene: &Scene<'_>) -> impl Iterator<Item = [f64; 2]> {
     let ego = scene
         .drive
         .ego
         .iter()
         .map(|p| [p.translation.x, p.translation.y]);
+    let gt = scene.gt.iter().flat_map(|g| g.positions.iter().copied());
+    ego.chain(gt)
+}
+
+/// The pixels of every drawn position: ego poses, track boxes, ground truth.
+fn drawn_points(scene: &Scene, view: &View) -> Vec<(i32, i32)> {
     let tracks = scene
         .drive
         .tracks
         .iter()
         .flat_map(|t| t.boxes.iter().map(|b| b.centre));
-    let gt = scene.gt.iter().flat_map(|g| g.positions.iter().copied());
-    ego.chain(tracks).chain(gt).map(|p| view.pixel(p)).collect()
+    ego_and_gt_positions(scene)
+        .chain(tracks)
+        .map(|p| view.pixel(p))
+        .collect()
 }
 
 /// The data's extent (min x, min y, max x, max y) with a margin around it.
 fn extent(scene: &Scene) -> [f64; 4] {
-    let ego = scene
-        .drive
-        .ego
-        .iter()
-        .map(|p| [p.translation.x, p.translation.y]);
     let corners = scene
         .drive
         .tracks
         .iter()
         .flat_map(|t| t.boxes.iter().flat_map(|b| b.corners()));
-    let gt = scene.gt.iter().flat_map(|g| g.positions.iter().copied());
     let mut e = [
         f64::INFINITY,
         f64::INFINITY,
         f64::NEG_INFINITY,
         f64::NEG_INFINITY,
     ];
-    for p in ego.chain(corners).chain(gt) {
+    for p in ego_and_gt_positions(scene).chain(corners) {
         e = [
             e[0].min(p[0]),
             e[1].min(p[1]),
