@@ -119,20 +119,37 @@ fn extents(points: &[Vector2<f64>], yaw: f64) -> (Vector2<f64>, Vector2<f64>) {
     (lo, hi)
 }
 
-/// Which of the rectangle's axes is the object's length, from one view: when the view shows
-/// two faces the longer one is the length; when it shows one face (the other extent below
-/// `single_face_depth`), that face is the width if its extent is nearer the prior `width`
-/// than the prior `length` (a car seen from behind), else the length. Returns the heading
-/// (modulo π).
-pub fn length_heading(rect: &Rect, length: f64, width: f64, single_face_depth: f64) -> f64 {
+/// Two faces both shorter than the prior width plus this (m) do not tell length from width.
+const AMBIGUOUS_FACE_MARGIN: f64 = 0.5;
+
+/// Which of the rectangle's axes is the object's length, from one view seen from
+/// `viewpoint`. When the view shows one face (the other extent below `single_face_depth`),
+/// that face is the width if its extent is nearer the prior `width` than the prior `length`
+/// (a car seen from behind), else the length. When it shows two faces the longer one is the
+/// length, unless both could be the width (a distant van's back and the first metre of its
+/// side): then the length is the axis nearer the line of sight, as a face seen at a grazing
+/// angle is sparse and breaks off at range while a face turned to the sensor shows whole.
+/// Returns the heading (modulo π).
+pub fn length_heading(
+    rect: &Rect,
+    length: f64,
+    width: f64,
+    single_face_depth: f64,
+    viewpoint: &Vector2<f64>,
+) -> f64 {
     let (e1, e2) = (rect.extent.x, rect.extent.y);
-    let first_is_length = if e1.min(e2) >= single_face_depth {
-        e1 >= e2
-    } else {
+    let first_is_length = if e1.min(e2) < single_face_depth {
         let face = e1.max(e2);
         let face_is_width = (face - width).abs() < (face - length).abs();
         // The face is the first axis when e1 is the larger extent.
         (e1 >= e2) != face_is_width
+    } else if e1.max(e2) <= width + AMBIGUOUS_FACE_MARGIN && length > width + AMBIGUOUS_FACE_MARGIN
+    {
+        let sight = rect.center - viewpoint;
+        let across = (rect.axis().perp(&sight) / sight.norm().max(1e-9)).abs();
+        across < std::f64::consts::FRAC_1_SQRT_2
+    } else {
+        e1 >= e2
     };
     if first_is_length {
         rect.yaw
@@ -222,7 +239,7 @@ mod tests {
             let center = Vector2::new(12.0, 5.0);
             let pts = visible_outline(center, yaw, 4.5, 1.8, Vector2::zeros());
             let rect = fit_rectangle(&pts);
-            let heading = length_heading(&rect, 4.5, 1.8, 0.5);
+            let heading = length_heading(&rect, 4.5, 1.8, 0.5, &Vector2::zeros());
             assert!(heading_error(heading, yaw) < 0.03, "yaw {yaw}: {heading}");
         }
     }
@@ -235,10 +252,36 @@ mod tests {
         let centroid = pts.iter().sum::<Vector2<f64>>() / pts.len() as f64;
         assert!((centroid - center).norm() > 2.0);
         let rect = fit_rectangle(&pts);
-        let heading = length_heading(&rect, 4.5, 1.8, 0.5);
+        let heading = length_heading(&rect, 4.5, 1.8, 0.5, &Vector2::zeros());
         assert!(heading_error(heading, 0.0) < 0.03, "heading {heading}");
         let placed = place_box(&pts, heading, Vector2::new(4.5, 1.8), &Vector2::zeros());
         assert!((placed - center).norm() < 0.1, "placed at {placed}");
+    }
+
+    #[test]
+    fn a_distant_vans_back_and_a_metre_of_its_side_give_a_length_along_the_sight() {
+        // A 5.1 x 2.0 m van 40 m ahead, slightly to the left, pointing away: its back is seen
+        // whole, its side only for the first metre (the rest breaks off at a grazing angle).
+        let (center, yaw) = (Vector2::new(40.0, 3.0), 0.0);
+        let near_end = center.x - 2.55;
+        let pts: Vec<_> = visible_outline(center, yaw, 5.1, 2.0, Vector2::zeros())
+            .into_iter()
+            .filter(|p| p.x < near_end + 1.0)
+            .collect();
+        let rect = fit_rectangle(&pts);
+        assert!(
+            rect.extent.min() > 0.5 && rect.extent.max() < 2.5,
+            "{rect:?}"
+        );
+        let heading = length_heading(&rect, 4.5, 1.8, 0.5, &Vector2::zeros());
+        assert!(heading_error(heading, yaw) < 0.05, "heading {heading}");
+        // The same outline seen from beside the van is a side turned to the sensor.
+        let beside = Vector2::new(center.x - 2.0, center.y + 30.0);
+        let heading = length_heading(&rect, 4.5, 1.8, 0.5, &beside);
+        assert!(
+            heading_error(heading, yaw + FRAC_PI_2) < 0.05,
+            "heading {heading}"
+        );
     }
 
     #[test]
@@ -246,7 +289,7 @@ mod tests {
         let center = Vector2::new(0.0, 8.0);
         let pts = visible_outline(center, 0.0, 4.5, 1.8, Vector2::zeros());
         let rect = fit_rectangle(&pts);
-        let heading = length_heading(&rect, 4.5, 1.8, 0.5);
+        let heading = length_heading(&rect, 4.5, 1.8, 0.5, &Vector2::zeros());
         assert!(heading_error(heading, 0.0) < 0.03);
         let placed = place_box(&pts, heading, Vector2::new(4.5, 1.8), &Vector2::zeros());
         assert!((placed - center).norm() < 0.1, "placed at {placed}");

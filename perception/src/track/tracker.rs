@@ -339,7 +339,8 @@ impl Tracker {
             None
         } else {
             let prior = class_size(t, o, config);
-            let view = length_heading(&o.rect, prior.x, prior.y, SINGLE_FACE_DEPTH);
+            let sensor = scan.sensor().xy();
+            let view = length_heading(&o.rect, prior.x, prior.y, SINGLE_FACE_DEPTH, &sensor);
             if heading_error(view, t.motion.yaw()) < MAX_HEADING_STEP {
                 t.heading_flips = 0;
                 Some(view)
@@ -398,7 +399,8 @@ impl Tracker {
         let prior = class.and_then(|c| config.classify.size_of(c));
         let (length, width) =
             prior.map_or((o.shape.length, o.shape.width), |p| (p.length, p.width));
-        let heading = length_heading(&o.rect, length, width, SINGLE_FACE_DEPTH);
+        let sensor = scan.sensor().xy();
+        let heading = length_heading(&o.rect, length, width, SINGLE_FACE_DEPTH, &sensor);
         let (seen_l, seen_w) = extents_along(o, heading);
         let size = Vector3::new(
             seen_l.max(prior.map_or(0.0, |p| p.length)),
