@@ -213,8 +213,8 @@ struct Outputs {
     frame_timings: Vec<(usize, StageTimings)>,
     kitti: Option<Vec<KittiLabel>>,
     clusters: Option<ClustersCsv>,
-    /// The Velodyne pose of every processed scan in the world frame.
-    ego_poses: Vec<Isometry3<f64>>,
+    /// The Velodyne pose in the world frame of each scan, by index; `None` for a skipped one.
+    ego_poses: Vec<Option<Isometry3<f64>>>,
 }
 
 impl Outputs {
@@ -287,7 +287,10 @@ impl Outputs {
             }
         }
         self.frame_timings.push((index, result.timings.clone()));
-        self.ego_poses.push(result.ego_pose);
+        if self.ego_poses.len() <= index {
+            self.ego_poses.resize(index + 1, None);
+        }
+        self.ego_poses[index] = Some(result.ego_pose);
         if let Some(sf) = &result.superframe {
             let path = self
                 .dir
@@ -347,7 +350,7 @@ impl Outputs {
             clusters.0.flush()?;
         }
         let poses = self.dir.join("ego_poses.txt");
-        write_poses(&poses, &self.ego_poses)
+        write_poses(&poses, &one_pose_per_scan(&self.ego_poses))
             .with_context(|| format!("writing {}", poses.display()))?;
         let bt = self.dir.join("occupancy.bt");
         std::fs::write(&bt, occupancy.to_bt())
@@ -460,4 +463,42 @@ fn kitti_label(
 /// An angle wrapped into (−π, π].
 fn wrap(a: f64) -> f64 {
     trackd_perception::track::motion::wrap_angle(a)
+}
+
+/// One pose per scan for `ego_poses.txt`, so that line `i` is scan `i`: a scan skipped (no
+/// GPS fix yet) takes the pose of the nearest processed scan before it, or after it for the
+/// scans before the first fix. Empty when no scan was processed.
+fn one_pose_per_scan(poses: &[Option<Isometry3<f64>>]) -> Vec<Isometry3<f64>> {
+    let Some(first) = poses.iter().flatten().next() else {
+        return Vec::new();
+    };
+    let mut last = *first;
+    poses
+        .iter()
+        .map(|p| {
+            if let Some(p) = p {
+                last = *p;
+            }
+            last
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Translation3;
+
+    use super::*;
+
+    #[test]
+    fn skipped_scans_keep_one_pose_line_each() {
+        let at = |x: f64| Isometry3::from_parts(Translation3::new(x, 0.0, 0.0), Default::default());
+        let poses = [None, None, Some(at(2.0)), None, Some(at(4.0))];
+        let xs: Vec<f64> = one_pose_per_scan(&poses)
+            .iter()
+            .map(|p| p.translation.x)
+            .collect();
+        assert_eq!(xs, [2.0, 2.0, 2.0, 2.0, 4.0]);
+        assert!(one_pose_per_scan(&[None, None]).is_empty());
+    }
 }
