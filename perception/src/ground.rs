@@ -396,11 +396,12 @@ impl GroundRemoval {
             let range = (p.x * p.x + p.y * p.y).sqrt();
             let ring = inner.iter().position(|r| range < r.outer).unwrap_or(last);
             let sector = sector_of(p.y, p.x, rings[ring].sectors);
+            // Plain comparisons: the point is finite, f32::min's NaN handling is not needed.
             bounds = [
-                bounds[0].min(p.x),
-                bounds[1].min(p.y),
-                bounds[2].max(p.x),
-                bounds[3].max(p.y),
+                if p.x < bounds[0] { p.x } else { bounds[0] },
+                if p.y < bounds[1] { p.y } else { bounds[1] },
+                if p.x > bounds[2] { p.x } else { bounds[2] },
+                if p.y > bounds[3] { p.y } else { bounds[3] },
             ];
             let zone = self.first_zone[ring] + sector;
             *zone_of = zone as u32;

@@ -301,8 +301,9 @@ fn bounds(points: &[Point]) -> ([f64; 3], [f64; 3]) {
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in points.iter().filter(|p| finite_xyz(p)) {
         for (axis, v) in p.xyz().into_iter().enumerate() {
-            lo[axis] = lo[axis].min(v);
-            hi[axis] = hi[axis].max(v);
+            // Plain comparisons: v is finite, f32::min's NaN handling is not needed.
+            lo[axis] = if v < lo[axis] { v } else { lo[axis] };
+            hi[axis] = if v > hi[axis] { v } else { hi[axis] };
         }
     }
     if lo[0] > hi[0] {

@@ -278,8 +278,17 @@ fn bounding_box(points: &[[f32; 3]]) -> Box3 {
     let mut b = [[f32::INFINITY; 3], [f32::NEG_INFINITY; 3]];
     for p in points {
         for axis in 0..3 {
-            b[0][axis] = b[0][axis].min(p[axis]);
-            b[1][axis] = b[1][axis].max(p[axis]);
+            // Plain comparisons (one minss/maxss each; f32::min adds NaN handling).
+            b[0][axis] = if p[axis] < b[0][axis] {
+                p[axis]
+            } else {
+                b[0][axis]
+            };
+            b[1][axis] = if p[axis] > b[1][axis] {
+                p[axis]
+            } else {
+                b[1][axis]
+            };
         }
     }
     b

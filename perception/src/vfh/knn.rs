@@ -107,8 +107,17 @@ impl KnnTree {
         let mut hi = [f32::NEG_INFINITY; 3];
         for (p, _) in &self.items[start..end] {
             for axis in 0..3 {
-                lo[axis] = lo[axis].min(p[axis]);
-                hi[axis] = hi[axis].max(p[axis]);
+                // Plain comparisons (one minss/maxss each; f32::min adds NaN handling).
+                lo[axis] = if p[axis] < lo[axis] {
+                    p[axis]
+                } else {
+                    lo[axis]
+                };
+                hi[axis] = if p[axis] > hi[axis] {
+                    p[axis]
+                } else {
+                    hi[axis]
+                };
             }
         }
         let axis = (0..3)
