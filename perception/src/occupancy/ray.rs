@@ -85,15 +85,18 @@ impl VoxelWalk {
         while remaining > 0 {
             visit(slot as usize);
             remaining -= 1;
-            // The axis of `first_axis(t_next)`: the smallest parameter, ties to the higher axis.
-            let inside = if tx < ty && tx < tz {
+            // `first_axis(t_next)`, on the locals: the smallest parameter, ties to the higher
+            // axis.
+            let x_first = tx < ty && tx < tz;
+            let y_first = ty <= tx && ty < tz;
+            let inside = if x_first {
                 kx += sx;
                 cx += 1;
                 tx = fx + f64::from(cx) * dx;
                 lx += sx;
                 slot += sx;
                 (0..side).contains(&lx)
-            } else if !(tx < ty) && ty < tz {
+            } else if y_first {
                 ky += sy;
                 cy += 1;
                 ty = fy + f64::from(cy) * dy;
