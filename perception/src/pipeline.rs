@@ -139,7 +139,6 @@ struct Buffers {
     bounds: Vec<Bounds>,
     groups: Vec<usize>,
     group_ranges: Vec<Range<usize>>,
-    grouped: Vec<Point>,
     boxes: Vec<PredictedBox>,
     people: Vec<Range<usize>>,
     clusters: Clusters,
@@ -270,44 +269,27 @@ impl Pipeline {
         let index = self.next_index;
         self.next_index += 1;
 
-        let b = &mut self.buffers;
-        self.filter.run(&frame.points, &mut b.filtered);
-        laps.lap("filter");
-
-        let plane = self.ground_removal.segment(&b.filtered, &mut b.is_ground);
-        b.obstacles.clear();
-        b.ground.clear();
-        for (p, &g) in b.filtered.iter().zip(&b.is_ground) {
-            if g { &mut b.ground } else { &mut b.obstacles }.push(*p);
-        }
-        laps.lap("ground");
-
-        to_world(&b.obstacles, &pose, &mut b.obstacles_world);
-        to_world(&b.ground, &pose, &mut b.ground_world);
-        let normal = pose.rotation * Vector3::from(plane.normal);
-        let offset = plane.offset - normal.dot(&pose.translation.vector);
-        self.ground.set_plane(normal, offset);
-        self.ground
-            .fill_cells(pose.translation.vector.xy(), &b.ground_world);
-        laps.lap("world");
-
-        self.dbscan.run(&b.obstacles_world, &mut b.clustering)?;
-        self.gather_clusters(frame.timestamp, pose.translation.vector);
-        laps.lap("cluster");
-
-        self.describe_clusters(&pose);
-        laps.lap("vfh");
-
+        // The range image reads nothing but the scan: it is built while the stages up to VFH
+        // run, by another worker when one is free (its time is in none of their laps).
         let with_visibility = tracking_frame == TrackingFrame::World;
-        if with_visibility {
-            let ego_box = self.config.filter.ego_box;
-            self.range_image.build(
-                frame
-                    .points
-                    .iter()
-                    .filter(|p| !ego_box.is_some_and(|b| b.contains(p))),
-            );
-        }
+        let ego_box = self.config.filter.ego_box;
+        let mut image = std::mem::take(&mut self.range_image);
+        let (staged, ()) = rayon::join(
+            || self.segment_and_describe(&frame, &pose, &mut laps),
+            || {
+                if with_visibility {
+                    image.build(
+                        frame
+                            .points
+                            .iter()
+                            .filter(|p| !ego_box.is_some_and(|b| b.contains(p))),
+                    );
+                }
+            },
+        );
+        self.range_image = image;
+        staged?;
+
         let b = &self.buffers;
         let c = &b.clusters;
         let inputs: Vec<ClusterInput<'_>> = b
@@ -405,6 +387,44 @@ impl Pipeline {
         })
     }
 
+    /// Filter, ground, world, DBSCAN and VFH of one scan at `pose`, each lapped: fills the
+    /// buffers up to the described clusters and the local ground.
+    fn segment_and_describe(
+        &mut self,
+        frame: &Frame,
+        pose: &Isometry3<f64>,
+        laps: &mut Laps,
+    ) -> Result<(), ClusterError> {
+        let b = &mut self.buffers;
+        self.filter.run(&frame.points, &mut b.filtered);
+        laps.lap("filter");
+
+        let plane = self.ground_removal.segment(&b.filtered, &mut b.is_ground);
+        b.obstacles.clear();
+        b.ground.clear();
+        for (p, &g) in b.filtered.iter().zip(&b.is_ground) {
+            if g { &mut b.ground } else { &mut b.obstacles }.push(*p);
+        }
+        laps.lap("ground");
+
+        to_world(&b.obstacles, pose, &mut b.obstacles_world);
+        to_world(&b.ground, pose, &mut b.ground_world);
+        let normal = pose.rotation * Vector3::from(plane.normal);
+        let offset = plane.offset - normal.dot(&pose.translation.vector);
+        self.ground.set_plane(normal, offset);
+        self.ground
+            .fill_cells(pose.translation.vector.xy(), &b.ground_world);
+        laps.lap("world");
+
+        self.dbscan.run(&b.obstacles_world, &mut b.clustering)?;
+        self.gather_clusters(frame.timestamp, pose.translation.vector);
+        laps.lap("cluster");
+
+        self.describe_clusters(pose);
+        laps.lap("vfh");
+        Ok(())
+    }
+
     /// The scan's sensor pose: from the OXTS packet through the pose EKF, given, or none
     /// (identity, tracking in the sensor frame).
     fn ego_pose(&mut self, frame: &Frame) -> Result<EgoPose, PoseError> {
@@ -438,12 +458,9 @@ impl Pipeline {
         let b = &mut self.buffers;
         let classify = &self.config.track.classify;
         b.bounds.clear();
-        b.grouped.clear();
         for members in b.clustering.clusters() {
-            let start = b.grouped.len();
-            b.grouped
-                .extend(members.iter().map(|&i| b.obstacles_world[i as usize]));
-            b.bounds.push(Bounds::of(&b.grouped[start..]));
+            let points = members.iter().map(|&i| &b.obstacles_world[i as usize]);
+            b.bounds.push(Bounds::of(points));
         }
         stacked_groups(&b.bounds, &mut b.groups);
         // Order the members by group: a counting sort over the clusters' member lists.

@@ -3,12 +3,13 @@
 /// Voxels along one edge of a block.
 pub(super) const BLOCK_SIDE: usize = 8;
 
-/// One voxel: its log-odds (NaN while unknown), the last scan that touched it, and the scan
-/// since which it has been occupied.
+/// Voxels in a block.
+const BLOCK_VOXELS: usize = BLOCK_SIDE * BLOCK_SIDE * BLOCK_SIDE;
+
+/// One voxel: its log-odds (NaN while unknown) and the scan since which it has been occupied.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Voxel {
     pub log_odds: f32,
-    pub stamp: u32,
     pub since: u32,
 }
 
@@ -16,7 +17,6 @@ impl Default for Voxel {
     fn default() -> Self {
         Self {
             log_odds: f32::NAN,
-            stamp: 0,
             since: 0,
         }
     }
@@ -39,16 +39,38 @@ impl Voxel {
     }
 }
 
-/// A block of `BLOCK_SIDE³` voxels, x fastest.
+/// One bit per voxel of a block (slot `i` is bit `i % 64` of word `i / 64`): the voxels the
+/// scan being integrated has already updated. 64 bytes, so that the many rays crossing the
+/// same voxels test them without touching the voxels themselves.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Touched([u64; BLOCK_VOXELS / 64]);
+
+impl Touched {
+    /// Marks `slot`; true when it was not marked yet.
+    #[inline]
+    pub fn mark(&mut self, slot: usize) -> bool {
+        let (word, bit) = (&mut self.0[slot / 64], 1u64 << (slot % 64));
+        let first = *word & bit == 0;
+        *word |= bit;
+        first
+    }
+}
+
+/// A block of `BLOCK_SIDE³` voxels, x fastest, and which of them the current scan updated.
 #[derive(Clone)]
 pub(super) struct Block {
-    pub voxels: Box<[Voxel; BLOCK_SIDE * BLOCK_SIDE * BLOCK_SIDE]>,
+    pub voxels: Box<[Voxel; BLOCK_VOXELS]>,
+    touched: Touched,
+    /// The scan `touched` is about.
+    touched_scan: u32,
 }
 
 impl Default for Block {
     fn default() -> Self {
         Self {
-            voxels: Box::new([Voxel::default(); BLOCK_SIDE * BLOCK_SIDE * BLOCK_SIDE]),
+            voxels: Box::new([Voxel::default(); BLOCK_VOXELS]),
+            touched: Touched::default(),
+            touched_scan: 0,
         }
     }
 }
@@ -57,5 +79,15 @@ impl Block {
     /// Voxels with a known state.
     pub fn known(&self) -> usize {
         self.voxels.iter().filter(|v| v.is_known()).count()
+    }
+
+    /// The voxels and which of them scan `scan` has updated so far (none, when the block was
+    /// last touched by an earlier scan).
+    pub fn for_scan(&mut self, scan: u32) -> (&mut [Voxel; BLOCK_VOXELS], &mut Touched) {
+        if self.touched_scan != scan {
+            self.touched_scan = scan;
+            self.touched = Touched::default();
+        }
+        (&mut self.voxels, &mut self.touched)
     }
 }

@@ -11,8 +11,10 @@ mod bev;
 mod block;
 mod key;
 mod octomap;
+mod order;
 mod ray;
 mod scan;
+mod window;
 
 use nalgebra::Vector3;
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -24,6 +26,7 @@ use block::{BLOCK_SIDE, Block, Voxel};
 use key::{block_key, floor_i32, local_index, voxel_key};
 use ray::VoxelWalk;
 pub use scan::OccupancyScan;
+use window::BlockWindow;
 
 /// The occupancy map's parameters (OctoMap's defaults where it has one).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -86,6 +89,13 @@ pub struct OccupancyMap {
     hits: Vec<Hit>,
     /// The ground cells that have had their ray this scan (kept for its allocation).
     ground_cells: FxHashSet<[i32; 2]>,
+    /// This scan's ray ends, in scan order and in azimuth order (kept for their allocation).
+    ray_ends: Vec<Vector3<f64>>,
+    ordered_ends: Vec<Vector3<f64>>,
+    /// Scratch space of the azimuth sort.
+    sector_counts: Vec<usize>,
+    /// The blocks this scan's rays can enter.
+    window: BlockWindow,
 }
 
 /// A voxel hit by the scan being integrated.
@@ -116,6 +126,10 @@ impl OccupancyMap {
             scan: 0,
             hits: Vec::new(),
             ground_cells: FxHashSet::default(),
+            ray_ends: Vec::new(),
+            ordered_ends: Vec::new(),
+            sector_counts: Vec::new(),
+            window: BlockWindow::default(),
         }
     }
 
@@ -146,25 +160,22 @@ impl OccupancyMap {
 
         let mut hits = std::mem::take(&mut self.hits);
         self.reserve_hits(obstacles, &mut hits);
+        let mut ends = std::mem::take(&mut self.ray_ends);
+        ends.clear();
+        ends.extend(
+            hits.iter()
+                .map(|hit| Vector3::from(hit.key.map(|v| (f64::from(v) + 0.5) * res))),
+        );
+        self.ground_ray_ends(ground, &mut ends);
+        let mut ordered = std::mem::take(&mut self.ordered_ends);
+        order::by_azimuth(&sensor, &ends, &mut self.sector_counts, &mut ordered);
+        self.reset_window(&sensor, &ordered);
         let max_range = self.config.max_ray_range;
-        for hit in &hits {
-            let end = hit.key.map(|v| (f64::from(v) + 0.5) * res);
-            self.clear_ray(&sensor, &Vector3::from(end), max_range);
+        for end in &ordered {
+            self.clear_ray(&sensor, end, max_range);
         }
-        let mut cells = std::mem::take(&mut self.ground_cells);
-        cells.clear();
-        let per_cell = 1.0 / self.config.ground_ray_cell;
-        for p in ground.iter().filter(|p| p.is_finite()) {
-            let cell = [
-                floor_i32(f64::from(p.x) * per_cell),
-                floor_i32(f64::from(p.y) * per_cell),
-            ];
-            if cells.insert(cell) {
-                let end = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
-                self.clear_ray(&sensor, &end, max_range);
-            }
-        }
-        self.ground_cells = cells;
+        self.ray_ends = ends;
+        self.ordered_ends = ordered;
 
         let (log_hit, log_max) = (self.log_hit, self.log_max);
         for hit in &hits {
@@ -182,8 +193,47 @@ impl OccupancyMap {
         }
     }
 
+    /// Adds to `ends` the first point of `ground` (in scan order) in each `ground_ray_cell`
+    /// square: where the ground rays go.
+    fn ground_ray_ends(&mut self, ground: &[Point], ends: &mut Vec<Vector3<f64>>) {
+        let cells = &mut self.ground_cells;
+        cells.clear();
+        let per_cell = 1.0 / self.config.ground_ray_cell;
+        for p in ground.iter().filter(|p| p.is_finite()) {
+            let cell = [
+                floor_i32(f64::from(p.x) * per_cell),
+                floor_i32(f64::from(p.y) * per_cell),
+            ];
+            if cells.insert(cell) {
+                ends.push(Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
+            }
+        }
+    }
+
+    /// Points the block window at the blocks this scan's rays can enter: those of the box
+    /// holding the sensor and the rays' `ends`, no farther from the sensor than the rays reach.
+    fn reset_window(&mut self, sensor: &Vector3<f64>, ends: &[Vector3<f64>]) {
+        let inverse_resolution = 1.0 / self.config.resolution;
+        let block_of = |p: &Vector3<f64>| block_key(voxel_key(p.x, p.y, p.z, inverse_resolution));
+        let origin = block_of(sensor);
+        let reach = self.config.max_ray_range * inverse_resolution / BLOCK_SIDE as f64;
+        let reach = reach.ceil().min(f64::from(i32::MAX / 4)) as i32 + 1;
+        let (mut min, mut max) = (origin, origin);
+        for key in ends.iter().map(block_of) {
+            for a in 0..3 {
+                min[a] = min[a].min(key[a]);
+                max[a] = max[a].max(key[a]);
+            }
+        }
+        for a in 0..3 {
+            min[a] = min[a].max(origin[a].saturating_sub(reach));
+            max[a] = max[a].min(origin[a].saturating_add(reach));
+        }
+        self.window.reset(min, max);
+    }
+
     /// Fills `hits` with the distinct voxels of `obstacles`, their blocks allocated and each
-    /// stamped with this scan, so that the scan's rays do not clear them.
+    /// marked as touched by this scan, so that the scan's rays do not clear them.
     fn reserve_hits(&mut self, obstacles: &[Point], hits: &mut Vec<Hit>) {
         hits.clear();
         let (scan, inverse_resolution) = (self.scan, 1.0 / self.config.resolution);
@@ -206,9 +256,7 @@ impl OccupancyMap {
                 }
             };
             let slot = local_index(key);
-            let v = &mut self.blocks[block as usize].voxels[slot];
-            if v.stamp != scan {
-                v.stamp = scan;
+            if self.blocks[block as usize].for_scan(scan).1.mark(slot) {
                 hits.push(Hit {
                     key,
                     block,
@@ -313,15 +361,16 @@ impl OccupancyMap {
         let res = self.config.resolution;
         let mut walk = VoxelWalk::new(from / res, end / res);
         while let Some(key) = walk.current() {
-            let Some(&b) = self.index.get(&block_key(key)) else {
+            let key = block_key(key);
+            let index = &self.index;
+            let Some(b) = self.window.get(key, || index.get(&key).copied()) else {
                 walk.leave_block();
                 continue;
             };
-            let voxels = &mut self.blocks[b as usize].voxels;
+            let (voxels, touched) = self.blocks[b as usize].for_scan(scan);
             walk.through_block(|slot| {
-                let v = &mut voxels[slot];
-                if v.stamp != scan {
-                    v.stamp = scan;
+                if touched.mark(slot) {
+                    let v = &mut voxels[slot];
                     v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
                 }
             });

@@ -68,22 +68,57 @@ impl VoxelWalk {
 
     /// Calls `visit` with the slot (see [`local_index`]) of every voxel of the walk inside the
     /// current block, in order, and stops at the first voxel outside it (or at the end).
+    ///
+    /// The walk's state lives in locals here, one variable per axis, so that the loop keeps
+    /// it in registers: it is what most of a scan's ray casting runs through.
     pub fn through_block(&mut self, mut visit: impl FnMut(usize)) {
         let side = BLOCK_SIDE as i32;
-        let stride = [1, side, side * side];
-        let mut local = self.key.map(|v| v & (side - 1));
+        let [sx, sy, sz] = self.step;
+        let [fx, fy, fz] = self.t_first;
+        let [dx, dy, dz] = self.t_delta;
+        let [mut kx, mut ky, mut kz] = self.key;
+        let [mut cx, mut cy, mut cz] = self.crossed;
+        let [mut tx, mut ty, mut tz] = self.t_next;
+        let (mut lx, mut ly, mut lz) = (kx & (side - 1), ky & (side - 1), kz & (side - 1));
         let mut slot = local_index(self.key) as i32;
-        while self.remaining > 0 {
+        let mut remaining = self.remaining;
+        while remaining > 0 {
             visit(slot as usize);
-            let a = self.next_axis();
-            self.remaining -= 1;
-            self.cross(a, 1);
-            local[a] += self.step[a];
-            if !(0..side).contains(&local[a]) {
-                return;
+            remaining -= 1;
+            // `first_axis(t_next)`, on the locals: the smallest parameter, ties to the higher
+            // axis.
+            let x_first = tx < ty && tx < tz;
+            let y_first = ty <= tx && ty < tz;
+            let inside = if x_first {
+                kx += sx;
+                cx += 1;
+                tx = fx + f64::from(cx) * dx;
+                lx += sx;
+                slot += sx;
+                (0..side).contains(&lx)
+            } else if y_first {
+                ky += sy;
+                cy += 1;
+                ty = fy + f64::from(cy) * dy;
+                ly += sy;
+                slot += sy * side;
+                (0..side).contains(&ly)
+            } else {
+                kz += sz;
+                cz += 1;
+                tz = fz + f64::from(cz) * dz;
+                lz += sz;
+                slot += sz * side * side;
+                (0..side).contains(&lz)
+            };
+            if !inside {
+                break;
             }
-            slot += self.step[a] * stride[a];
         }
+        self.key = [kx, ky, kz];
+        self.crossed = [cx, cy, cz];
+        self.t_next = [tx, ty, tz];
+        self.remaining = remaining;
     }
 
     /// Jumps to the first voxel of the walk outside the current block (or ends the walk, when
@@ -131,11 +166,6 @@ impl VoxelWalk {
         }
     }
 
-    /// The axis whose boundary the walk crosses next.
-    fn next_axis(&self) -> usize {
-        first_axis(&self.t_next)
-    }
-
     /// Makes `n` more boundary crossings along axis `a`.
     fn cross(&mut self, a: usize, n: u32) {
         self.key[a] += self.step[a] * n as i32;
@@ -170,7 +200,7 @@ mod tests {
         let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
         while let Some(k) = w.current() {
             cells.push(k);
-            let a = w.next_axis();
+            let a = first_axis(&w.t_next);
             w.remaining -= 1;
             w.cross(a, 1);
         }

@@ -52,8 +52,17 @@ pub fn fit_rectangle(points: &[Vector2<f64>]) -> Rect {
         };
     }
     let stride = points.len().div_ceil(MAX_FIT_POINTS);
-    let sample = || points.iter().step_by(stride);
-    let score = |angle: f64| closeness(sample(), angle);
+    let mut sample = Sample {
+        x: [0.0; MAX_FIT_POINTS],
+        y: [0.0; MAX_FIT_POINTS],
+        len: 0,
+    };
+    for p in points.iter().step_by(stride) {
+        sample.x[sample.len] = p.x;
+        sample.y[sample.len] = p.y;
+        sample.len += 1;
+    }
+    let score = |angle: f64| sample.closeness(angle);
     let mut best = (f64::NEG_INFINITY, 0.0);
     let mut angle = 0.0;
     while angle < FRAC_PI_2 {
@@ -85,25 +94,37 @@ pub fn fit_rectangle(points: &[Vector2<f64>]) -> Rect {
     }
 }
 
-/// Closeness score of the rectangle at `angle`: points near its edges score high.
-fn closeness<'a>(points: impl Iterator<Item = &'a Vector2<f64>> + Clone, angle: f64) -> f64 {
-    let (c, s) = (angle.cos(), angle.sin());
-    let (mut min1, mut max1, mut min2, mut max2) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for p in points.clone() {
-        let (a, b) = (c * p.x + s * p.y, -s * p.x + c * p.y);
-        min1 = min1.min(a);
-        max1 = max1.max(a);
-        min2 = min2.min(b);
-        max2 = max2.max(b);
-    }
-    points
-        .map(|p| {
-            let (a, b) = (c * p.x + s * p.y, -s * p.x + c * p.y);
+/// The points the angle search scores, coordinates apart (x, then y) so that each angle's
+/// two passes over them run on whole registers.
+struct Sample {
+    x: [f64; MAX_FIT_POINTS],
+    y: [f64; MAX_FIT_POINTS],
+    len: usize,
+}
+
+impl Sample {
+    /// Closeness score of the rectangle at `angle`: points near its edges score high. The
+    /// scores are added in point order.
+    fn closeness(&self, angle: f64) -> f64 {
+        let (c, s) = (angle.cos(), angle.sin());
+        let (x, y) = (&self.x[..self.len], &self.y[..self.len]);
+        let (mut min1, mut max1, mut min2, mut max2) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for (&px, &py) in x.iter().zip(y) {
+            let (a, b) = (c * px + s * py, -s * px + c * py);
+            min1 = min1.min(a);
+            max1 = max1.max(a);
+            min2 = min2.min(b);
+            max2 = max2.max(b);
+        }
+        let mut scores = [0.0; MAX_FIT_POINTS];
+        for ((score, &px), &py) in scores.iter_mut().zip(x).zip(y) {
+            let (a, b) = (c * px + s * py, -s * px + c * py);
             let d1 = (a - min1).min(max1 - a);
             let d2 = (b - min2).min(max2 - b);
-            1.0 / d1.min(d2).max(MIN_CLOSENESS_DISTANCE)
-        })
-        .sum()
+            *score = 1.0 / d1.min(d2).max(MIN_CLOSENESS_DISTANCE);
+        }
+        scores[..self.len].iter().sum()
+    }
 }
 
 /// Lowest and highest coordinates of `points` along the axis at `yaw` and its normal.

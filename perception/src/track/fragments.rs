@@ -36,7 +36,7 @@ pub struct Bounds {
 
 impl Bounds {
     /// The bounds of `points` (non-empty).
-    pub fn of(points: &[Point]) -> Self {
+    pub fn of<'a>(points: impl IntoIterator<Item = &'a Point>) -> Self {
         let mut b = Self {
             min: [f32::MAX; 3],
             max: [f32::MIN; 3],

@@ -76,8 +76,9 @@ impl Ground {
         if self.cells.is_empty() {
             return None;
         }
-        let i = ((x - self.corner.x) / CELL).floor();
-        let j = ((y - self.corner.y) / CELL).floor();
+        // Truncation is the floor on the grid (without a call to the C library's floor: the
+        // build's baseline x86-64 has no rounding instruction); NaN is outside.
+        let (i, j) = ((x - self.corner.x) / CELL, (y - self.corner.y) / CELL);
         let inside = (0.0..CELLS as f64).contains(&i) && (0.0..CELLS as f64).contains(&j);
         inside.then(|| j as usize * CELLS + i as usize)
     }

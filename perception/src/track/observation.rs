@@ -53,7 +53,7 @@ impl Observation {
     }
 }
 
-/// Computes observations, reusing its buffers from scan to scan.
+/// Computes observations, reusing its buffers from cluster to cluster.
 #[derive(Debug, Default)]
 pub struct Observer {
     bev: Vec<Vector2<f64>>,

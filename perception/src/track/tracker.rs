@@ -4,6 +4,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use nalgebra::{Isometry3, Point3, Vector2, Vector3};
+use rayon::prelude::*;
 
 use super::assignment::Assigner;
 use super::association::{PairScore, TrackPairs, associate};
@@ -163,7 +164,6 @@ pub struct Tracker {
     tracks: Vec<Track>,
     next_id: u64,
     time: Option<f64>,
-    observer: Observer,
     observations: Vec<Observation>,
     pairs: Vec<TrackPairs>,
     assigner: Assigner,
@@ -178,7 +178,6 @@ impl Tracker {
             tracks: Vec::new(),
             next_id: 1,
             time: None,
-            observer: Observer::default(),
             observations: Vec::new(),
             pairs: Vec::new(),
             assigner: Assigner::default(),
@@ -238,17 +237,20 @@ impl Tracker {
             t.age += 1;
             t.cluster = None;
         }
-        self.observations.clear();
-        for c in clusters {
-            let o = self.observer.observe(
-                c.points,
-                &scan.pose,
-                scan.range_limit,
-                scan.ground,
-                &self.config.classify,
-            );
-            self.observations.push(o);
-        }
+        // Each cluster's observation is its own: measured in parallel, kept in cluster order.
+        let classify = &self.config.classify;
+        clusters
+            .par_iter()
+            .map_init(Observer::default, |observer, c| {
+                observer.observe(
+                    c.points,
+                    &scan.pose,
+                    scan.range_limit,
+                    scan.ground,
+                    classify,
+                )
+            })
+            .collect_into_vec(&mut self.observations);
         self.score_pairs(scan, clusters);
         let matches = associate(
             &self.config.association,

@@ -18,6 +18,11 @@ const ELEVATION_MIN_DEG: f64 = -30.0;
 const ELEVATION_MAX_DEG: f64 = 10.0;
 /// Ranges within this (m) of a probe's count as hitting it.
 const HIT_TOLERANCE: f64 = 0.4;
+/// A direction whose fast angles ([`fast_atan2`]) lie within this fraction of a cell of a cell
+/// boundary is placed by the library's `atan2` and `asin` instead: the fast angles' error
+/// (below 2e-6 rad) is some 1/25 of it, so every point lands in the cell the library's
+/// functions give.
+const EXACT_MARGIN: f64 = 0.01;
 
 /// What the scan shows of a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,12 +63,43 @@ impl RangeImage {
         }
     }
 
-    /// The cell and range of a sensor-frame point.
+    /// The cell and range of a sensor-frame point: [`Self::exact_cell_of`]'s answer, from fast
+    /// angles unless they are too near a cell boundary to tell.
     fn cell_of(&self, p: &Vector3<f64>) -> Option<(usize, f64)> {
         let range = p.norm();
         if !range.is_finite() || range < 1e-3 || self.ranges.is_empty() {
             return None;
         }
+        // Cells from the fast angles, in cell units: columns from +x counter-clockwise, rows
+        // from the band's lower edge.
+        let columns_per_rad = self.columns as f64 / std::f64::consts::TAU;
+        let rows_per_rad = 1.0f64.to_degrees() / ELEVATION_STEP_DEG;
+        let mut column = fast_atan2(p.y, p.x) * columns_per_rad;
+        if column < 0.0 {
+            column += self.columns as f64;
+        }
+        let horizontal = (p.x * p.x + p.y * p.y).sqrt();
+        let row =
+            fast_atan2(p.z, horizontal) * rows_per_rad - ELEVATION_MIN_DEG / ELEVATION_STEP_DEG;
+        let rows = self.rows as f64;
+        if !(-EXACT_MARGIN..rows + EXACT_MARGIN).contains(&row) {
+            return None;
+        }
+        // Both are ≥ -EXACT_MARGIN here: truncation is the floor, or 0 just below 0.
+        let near_boundary = |u: f64| {
+            let fraction = u - (u as u64) as f64;
+            !(EXACT_MARGIN..=1.0 - EXACT_MARGIN).contains(&fraction)
+        };
+        if near_boundary(column) || near_boundary(row) {
+            return self.exact_cell_of(p, range);
+        }
+        let (column, row) = ((column as usize).min(self.columns - 1), row as usize);
+        Some((row * self.columns + column, range))
+    }
+
+    /// The cell of a sensor-frame point at `range` (its norm, ≥ 1 mm) from the library's
+    /// `atan2` and `asin`.
+    fn exact_cell_of(&self, p: &Vector3<f64>, range: f64) -> Option<(usize, f64)> {
         let azimuth = p.y.atan2(p.x).to_degrees().rem_euclid(360.0);
         let elevation = (p.z / range).asin().to_degrees();
         let column = ((azimuth / AZIMUTH_STEP_DEG) as usize).min(self.columns - 1);
@@ -104,9 +140,78 @@ impl RangeImage {
     }
 }
 
+/// `y.atan2(x)` within 2e-6 rad, without the library call: a degree-11 odd polynomial of
+/// the arctangent on [0, 1] (Hastings), and the octant symmetries. 0 for (0, 0).
+fn fast_atan2(y: f64, x: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    let (num, den) = if ay <= ax { (ay, ax) } else { (ax, ay) };
+    if den == 0.0 {
+        return 0.0;
+    }
+    let t = num / den;
+    let t2 = t * t;
+    let mut a = t
+        * (0.999_977_26
+            + t2 * (-0.332_623_47
+                + t2 * (0.193_543_46
+                    + t2 * (-0.116_432_87 + t2 * (0.052_653_32 + t2 * -0.011_721_20)))));
+    if ay > ax {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fast_atan2_is_within_its_bound_all_around() {
+        let mut worst: f64 = 0.0;
+        for i in 0..200_000 {
+            let a = f64::from(i) / 200_000.0 * std::f64::consts::TAU - std::f64::consts::PI;
+            let (y, x) = (a.sin() * 3.7, a.cos() * 3.7);
+            worst = worst.max((fast_atan2(y, x) - y.atan2(x)).abs());
+        }
+        assert!(worst < 2e-6, "{worst}");
+        assert_eq!(fast_atan2(0.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn cells_are_the_library_functions_cells() {
+        let mut image = RangeImage::default();
+        image.build(&wall(10.0));
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = |range: f64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 * range - range
+        };
+        let mut placed = 0;
+        for i in 0..200_000 {
+            let mut p = Vector3::new(uniform(60.0), uniform(60.0), uniform(8.0));
+            if i % 4 == 0 {
+                // On cell boundaries, where the fast angles hand over to the library's.
+                let azimuth = (uniform(720.0).round() * 0.25).to_radians();
+                let elevation = (uniform(40.0).round() * 0.5).to_radians();
+                let r = 1.0 + uniform(40.0).abs();
+                p = Vector3::new(
+                    r * elevation.cos() * azimuth.cos(),
+                    r * elevation.cos() * azimuth.sin(),
+                    r * elevation.sin(),
+                );
+            }
+            let expected = image.exact_cell_of(&p, p.norm());
+            assert_eq!(image.cell_of(&p), expected, "{p:?}");
+            placed += usize::from(expected.is_some());
+        }
+        assert!(placed > 10_000, "{placed}");
+    }
 
     /// A vertical wall of points at x = `x`, y in [-5, 5], z in [-1.5, 1].
     fn wall(x: f32) -> Vec<Point> {
