@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{
     Point,
+    angle::fast_atan2,
     pca::{Moments, cross, dot, normalized, smallest_eigenvector},
 };
 
@@ -667,35 +668,6 @@ fn index_below(v: f32, n: usize) -> usize {
     ((v as i32).max(0) as usize).min(n - 1)
 }
 
-/// atan2 to within 1e-5 rad (a polynomial; libm's atan2 costs more than the rest of the
-/// per-point work together).
-fn fast_atan2(y: f32, x: f32) -> f32 {
-    use std::f32::consts::{FRAC_PI_2, PI};
-    let (ax, ay) = (x.abs(), y.abs());
-    if ax == 0.0 && ay == 0.0 {
-        return 0.0;
-    }
-    let (t, swapped) = if ay > ax {
-        (ax / ay, true)
-    } else {
-        (ay / ax, false)
-    };
-    let t2 = t * t;
-    // A least-squares odd polynomial for atan on [0, 1] (error below 7e-6 rad).
-    let mut a = t
-        * (0.999_968
-            + t2 * (-0.332_549_57
-                + t2 * (0.193_520_28
-                    + t2 * (-0.117_020_03 + t2 * (0.053_742_84 - t2 * 0.012_269_506)))));
-    if swapped {
-        a = FRAC_PI_2 - a;
-    }
-    if x < 0.0 {
-        a = PI - a;
-    }
-    if y < 0.0 { -a } else { a }
-}
-
 /// `a - b`.
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
@@ -897,18 +869,6 @@ mod tests {
         }
         assert_eq!(index_below(f32::NAN, 5), 0);
         assert_eq!(index_below(f32::INFINITY, 5), 4);
-    }
-
-    #[test]
-    fn fast_atan2_is_close_to_libm() {
-        for i in 0..10_000 {
-            let a = (i as f32 / 10_000.0 - 0.5) * std::f32::consts::TAU;
-            for r in [0.1f32, 7.0, 80.0] {
-                let (y, x) = (r * a.sin(), r * a.cos());
-                assert!((fast_atan2(y, x) - y.atan2(x)).abs() < 2e-5, "{x} {y}");
-            }
-        }
-        assert_eq!(fast_atan2(0.0, 0.0), 0.0);
     }
 
     #[test]

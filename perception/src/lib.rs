@@ -6,6 +6,7 @@
 
 #![warn(missing_docs)]
 
+mod angle;
 pub mod cluster;
 pub mod config;
 pub mod filter;

@@ -143,7 +143,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     progress.finish_and_clear();
     let occupancy = occupancy.finish()?;
-    out.finish(&occupancy.map, &occupancy.timings, &source)?;
+    out.finish(frames, &occupancy.map, &occupancy.timings, &source)?;
     let wall = started.elapsed().as_secs_f64();
     println!(
         "{}: {frames} scans in {wall:.2} s ({:.1} Hz end to end, {:.1} Hz in the pipeline), \
@@ -335,10 +335,12 @@ impl Outputs {
         Ok(())
     }
 
-    /// Flushes the per-frame files and writes the timings, the occupancy map and the KITTI
-    /// results; `occupancy_timings` are the occupancy thread's per scan.
+    /// Flushes the per-frame files and writes the timings, the ego poses (one per scan of the
+    /// `scans` read), the occupancy map and the KITTI results; `occupancy_timings` are the
+    /// occupancy thread's per scan.
     fn finish(
         mut self,
+        scans: usize,
         occupancy: &OccupancyMap,
         occupancy_timings: &[(usize, f64)],
         source: &Source,
@@ -350,6 +352,7 @@ impl Outputs {
             clusters.0.flush()?;
         }
         let poses = self.dir.join("ego_poses.txt");
+        self.ego_poses.resize(scans, None);
         write_poses(&poses, &one_pose_per_scan(&self.ego_poses))
             .with_context(|| format!("writing {}", poses.display()))?;
         let bt = self.dir.join("occupancy.bt");

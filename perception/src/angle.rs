@@ -1,0 +1,48 @@
+//! A fast arctangent for the per-point loops (ground removal's sectors, the range image's
+//! cells): libm's `atan2` costs more than the rest of their work per point together.
+
+/// `y.atan2(x)` to within 1e-5 rad: an odd polynomial of the arctangent on [0, 1] and the
+/// octant symmetries; 0 for (0, 0).
+pub(crate) fn fast_atan2(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 && ay == 0.0 {
+        return 0.0;
+    }
+    let (t, swapped) = if ay > ax {
+        (ax / ay, true)
+    } else {
+        (ay / ax, false)
+    };
+    let t2 = t * t;
+    // A least-squares odd polynomial for atan on [0, 1] (error below 7e-6 rad).
+    let mut a = t
+        * (0.999_968
+            + t2 * (-0.332_549_57
+                + t2 * (0.193_520_28
+                    + t2 * (-0.117_020_03 + t2 * (0.053_742_84 - t2 * 0.012_269_506)))));
+    if swapped {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_atan2_is_close_to_libm() {
+        for i in 0..10_000 {
+            let a = (i as f32 / 10_000.0 - 0.5) * std::f32::consts::TAU;
+            for r in [0.1f32, 7.0, 80.0] {
+                let (y, x) = (r * a.sin(), r * a.cos());
+                assert!((fast_atan2(y, x) - y.atan2(x)).abs() < 2e-5, "{x} {y}");
+            }
+        }
+        assert_eq!(fast_atan2(0.0, 0.0), 0.0);
+    }
+}
