@@ -18,7 +18,7 @@ use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
 use crate::track::fragments::{Bounds, stacked_groups};
 use crate::track::person_split::{PersonShape, PersonSplitter};
 use crate::track::{
-    ClusterInput, Ground, PredictedBox, RangeImage, ScanContext, Splitter, Tracker,
+    ClusterInput, Ground, PredictedBox, RecentViews, ScanContext, Splitter, Tracker, View,
 };
 use crate::transform::to_world;
 use crate::vfh::{BINS, Vfh, VfhEstimator};
@@ -146,6 +146,9 @@ struct Buffers {
     described: Vec<usize>,
 }
 
+/// Views are kept this much longer (s) than the oldest motion probe they may be compared with.
+const VIEW_SLACK: f64 = 0.5;
+
 /// One vehicle's perception state: pose filter, tracker, occupancy map, super-frame trigger.
 pub struct Pipeline {
     config: Config,
@@ -162,7 +165,7 @@ pub struct Pipeline {
     hands_out_occupancy: bool,
     trigger: Trigger,
     ground: Ground,
-    range_image: RangeImage,
+    views: RecentViews,
     buffers: Buffers,
     next_index: u64,
     last_timestamp: Option<f64>,
@@ -204,7 +207,7 @@ impl Pipeline {
             hands_out_occupancy: false,
             trigger: Trigger::new(config.superframe.clone()),
             ground: Ground::horizontal(0.0),
-            range_image: RangeImage::default(),
+            views: RecentViews::new(config.track.classify.motion_probe_max_age + VIEW_SLACK),
             buffers: Buffers::default(),
             pose: None,
             config,
@@ -273,7 +276,7 @@ impl Pipeline {
         // run, by another worker when one is free (its time is in none of their laps).
         let with_visibility = tracking_frame == TrackingFrame::World;
         let ego_box = self.config.filter.ego_box;
-        let mut image = std::mem::take(&mut self.range_image);
+        let mut image = self.views.take_buffer(frame.timestamp);
         let (staged, ()) = rayon::join(
             || self.segment_and_describe(&frame, &pose, &mut laps),
             || {
@@ -287,8 +290,16 @@ impl Pipeline {
                 }
             },
         );
-        self.range_image = image;
         staged?;
+        if with_visibility {
+            self.views.push(View {
+                timestamp: frame.timestamp,
+                pose,
+                image,
+            });
+        } else {
+            self.views.clear();
+        }
 
         let b = &self.buffers;
         let c = &b.clusters;
@@ -309,7 +320,7 @@ impl Pipeline {
             pose,
             ground: &self.ground,
             range_limit: f64::from(self.config.filter.max_range),
-            visibility: with_visibility.then_some(&self.range_image),
+            views: with_visibility.then_some(&self.views),
         };
         self.tracker.step(&scan, &inputs);
         let tracks: Vec<TrackState> = self

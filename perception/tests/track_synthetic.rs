@@ -127,7 +127,7 @@ fn run(
             pose: Isometry3::translation(0.0, 0.0, 1.73),
             ground: &ground,
             range_limit: f64::INFINITY,
-            visibility: None,
+            views: None,
         };
         tracker.step(&scan, &clusters);
         out.push(

@@ -16,10 +16,12 @@ pub mod observation;
 pub mod person_split;
 pub mod split;
 pub mod tracker;
+pub mod views;
 pub mod visibility;
 
 pub use config::{AssociationMode, TrackConfig};
 pub use ground::Ground;
 pub use split::Splitter;
 pub use tracker::{ClusterInput, PredictedBox, ScanContext, Track, Tracker};
+pub use views::{RecentViews, View};
 pub use visibility::RangeImage;

@@ -14,6 +14,7 @@ use super::config::{AssociationMode, TrackConfig};
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
 use super::observation::{Observation, Observer};
+use super::views::{RecentViews, View};
 use super::visibility::{RangeImage, Visibility};
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
@@ -51,9 +52,10 @@ pub struct ScanContext<'a> {
     pub ground: &'a Ground,
     /// The range filter's outer limit (m): clusters reaching it are cut by it.
     pub range_limit: f64,
-    /// What the scan sees along each direction, when the world frame is fixed (a pose is
-    /// known): the evidence of motion. `None`: motion is not judged.
-    pub visibility: Option<&'a RangeImage>,
+    /// What this scan (the latest view) and the last ones saw along each direction, when the
+    /// world frame is fixed (a pose is known): the evidence of motion. `None`: motion is not
+    /// judged.
+    pub views: Option<&'a RecentViews>,
 }
 
 impl ScanContext<'_> {
@@ -334,6 +336,10 @@ impl Tracker {
         let heading = box_heading(t, o, config);
         let range = (o.centroid - scan.sensor()).xy().norm();
         let noise = config.motion.measurement_noise(range);
+        let may_have_arrived = matches!(
+            o.verdict,
+            ShapeVerdict::Object(_) | ShapeVerdict::Movable(_)
+        ) && inside_box(t, &o.rect.center, ARRIVAL_BOX_MARGIN);
         // Size first: the box centre is placed with the size this view supports.
         update_size(t, o, heading, config);
         let center = measured_center(t, o, scan, config);
@@ -371,7 +377,7 @@ impl Tracker {
             config.classify.vote_memory,
         );
         if !o.clipped {
-            judge_motion(t, cluster.points, scan, config);
+            judge_motion(t, cluster.points, may_have_arrived, scan, config);
         }
         trace_view("update", t, o);
     }
@@ -439,7 +445,7 @@ impl Tracker {
             cluster: Some(j),
         });
         if let Some(t) = self.tracks.last_mut() {
-            judge_motion(t, cluster.points, scan, config);
+            judge_motion(t, cluster.points, false, scan, config);
             trace_view("birth", t, o);
         }
         self.next_id += 1;
@@ -579,13 +585,29 @@ fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
 const PROBES: usize = 24;
 /// Probes lower than this above the ground (m) are not kept: the ground answers for them.
 const PROBE_MIN_HEIGHT: f64 = 0.4;
+/// An object has arrived where it stands when an earlier scan saw farther along every
+/// direction up to this far (m) to either side of its points: a pose error or a thin post's
+/// narrow silhouette in a far view does not make a static object look arrived.
+const ARRIVAL_HALF_WIDTH: f64 = 0.4;
+/// Arrival is judged only on a view shaped like an object whose centre lies within this (m)
+/// of the track's predicted box: a track that jumped to another cluster stands where the
+/// laser passed freely before, and has not moved.
+const ARRIVAL_BOX_MARGIN: f64 = 1.0;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
 
 /// Judges whether track `t`, just matched to `points`, moves: where it was a moment ago is
-/// free space now. Keeps fresh probes while it does not.
-fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config: &TrackConfig) {
-    let Some(image) = scan.visibility else {
+/// free space now (it left), or, when `may_have_arrived`, where it is now was free space
+/// across its width a moment ago (it arrived: the place it left may stay hidden behind it,
+/// when it comes nearer or follows the vehicle). Keeps fresh probes while it does not.
+fn judge_motion(
+    t: &mut Track,
+    points: &[Point],
+    may_have_arrived: bool,
+    scan: &ScanContext<'_>,
+    config: &TrackConfig,
+) {
+    let Some((views, now)) = scan.views.and_then(|v| Some((v, v.latest()?))) else {
         return;
     };
     if t.moving {
@@ -594,39 +616,66 @@ fn judge_motion(t: &mut Track, points: &[Point], scan: &ScanContext<'_>, config:
     let c = &config.classify;
     let age = scan.timestamp - t.probe_time;
     if !t.probes.is_empty() && age >= c.motion_probe_min_age {
-        let to_sensor = scan.pose.inverse();
-        let (mut through, mut hit) = (0, 0);
-        for p in &t.probes {
-            match image.visibility(&(to_sensor * Point3::from(*p)).coords) {
-                Visibility::SeenThrough => through += 1,
-                Visibility::Hit => hit += 1,
-                Visibility::Hidden | Visibility::Unknown => {}
+        let left = count_views(now, t.probes.iter().copied(), |image, p| {
+            image.visibility(p)
+        });
+        let then = views.at(t.probe_time).filter(|_| may_have_arrived);
+        let arrived = then.map_or((0, 0), |then| {
+            count_views(then, probe_points(points, scan), |image, p| {
+                image.visibility_across(p, ARRIVAL_HALF_WIDTH)
+            })
+        });
+        for (way, (through, hit)) in [("left", left), ("arrived", arrived)] {
+            if through + hit >= MIN_DECIDED_PROBES
+                && through as f64 >= c.moving_free_fraction * (through + hit) as f64
+            {
+                tracing::trace!(
+                    "track {} moves ({way}): seen through {through}, hit {hit}",
+                    t.id
+                );
+                t.moving = true;
+                return;
             }
-        }
-        if through + hit >= MIN_DECIDED_PROBES
-            && through as f64 >= c.moving_free_fraction * (through + hit) as f64
-        {
-            tracing::trace!(
-                "track {} moves: seen through (through {through}, hit {hit})",
-                t.id
-            );
-            t.moving = true;
-            return;
         }
     }
     if t.probes.is_empty() || age > c.motion_probe_max_age {
         t.probes.clear();
-        let stride = points.len().div_ceil(PROBES * 2).max(1);
-        t.probes.extend(
-            points
-                .iter()
-                .step_by(stride)
-                .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
-                .filter(|p| scan.ground.height(p) >= PROBE_MIN_HEIGHT)
-                .take(PROBES),
-        );
+        t.probes.extend(probe_points(points, scan));
         t.probe_time = scan.timestamp;
     }
+}
+
+/// Up to [`PROBES`] of a cluster's `points`, spread over it, that stand clear of the ground.
+fn probe_points<'p>(
+    points: &'p [Point],
+    scan: &'p ScanContext<'_>,
+) -> impl Iterator<Item = Vector3<f64>> + 'p {
+    let stride = points.len().div_ceil(PROBES * 2).max(1);
+    points
+        .iter()
+        .step_by(stride)
+        .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
+        .filter(|p| scan.ground.height(p) >= PROBE_MIN_HEIGHT)
+        .take(PROBES)
+}
+
+/// How many of the world-frame `points` `view` saw through (free space then) and how many it
+/// hit, as `visibility` judges a sensor-frame point in its image.
+fn count_views(
+    view: &View,
+    points: impl Iterator<Item = Vector3<f64>>,
+    visibility: impl Fn(&RangeImage, &Vector3<f64>) -> Visibility,
+) -> (usize, usize) {
+    let to_sensor = view.pose.inverse();
+    let (mut through, mut hit) = (0, 0);
+    for p in points {
+        match visibility(&view.image, &(to_sensor * Point3::from(p)).coords) {
+            Visibility::SeenThrough => through += 1,
+            Visibility::Hit => hit += 1,
+            Visibility::Hidden | Visibility::Unknown => {}
+        }
+    }
+    (through, hit)
 }
 
 /// Logs what a view of track `t` showed (`TRACKD_LOG=trackd_perception::track=trace`).

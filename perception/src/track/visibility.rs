@@ -19,6 +19,9 @@ const ELEVATION_MIN_DEG: f64 = -30.0;
 const ELEVATION_MAX_DEG: f64 = 10.0;
 /// Ranges within this (m) of a probe's count as hitting it.
 const HIT_TOLERANCE: f64 = 0.4;
+/// The widest window [`RangeImage::visibility_across`] looks at: this many columns to either
+/// side (5 degrees).
+const MAX_HALF_COLUMNS: i64 = 20;
 /// A direction whose fast angles ([`fast_atan2`], in `f32`) lie within this fraction of a cell
 /// of a cell boundary is placed by the library's `atan2` and `asin` instead: the fast angles'
 /// error (below 1e-5 rad) is under a quarter of it (4.4e-5 rad for a column, 8.7e-5 rad for a
@@ -115,14 +118,28 @@ impl RangeImage {
     /// scan measured farther in its cell and the 8 cells around: a point on the edge of a
     /// thin post seen from a new angle is not free space.
     pub fn visibility(&self, p: &Vector3<f64>) -> Visibility {
+        self.visibility_in_window(p, 1)
+    }
+
+    /// [`Self::visibility`] over a wider window: the cell rows above and below `p`'s, and the
+    /// columns up to `half_width` metres to either side of it at its range (at least one).
+    pub fn visibility_across(&self, p: &Vector3<f64>, half_width: f64) -> Visibility {
+        let horizontal = (p.x * p.x + p.y * p.y).sqrt();
+        let angle = (half_width / horizontal.max(1e-3)).atan().to_degrees();
+        let columns = ((angle / AZIMUTH_STEP_DEG).ceil() as i64).clamp(1, MAX_HALF_COLUMNS);
+        self.visibility_in_window(p, columns)
+    }
+
+    /// What the scan shows of `p`, judged on the nearest range of the cells around its own:
+    /// one row to either side and `half_columns` columns.
+    fn visibility_in_window(&self, p: &Vector3<f64>, half_columns: i64) -> Visibility {
         let Some((cell, range)) = self.cell_of(p) else {
             return Visibility::Unknown;
         };
         let (row, column) = ((cell / self.columns) as i64, (cell % self.columns) as i64);
         let mut measured = f64::INFINITY;
-        for (dr, dc) in (-1..=1).flat_map(|a| (-1..=1).map(move |b| (a, b))) {
-            let r = row + dr;
-            if (0..self.rows as i64).contains(&r) {
+        for r in (row - 1..=row + 1).filter(|r| (0..self.rows as i64).contains(r)) {
+            for dc in -half_columns..=half_columns {
                 let c = (column + dc).rem_euclid(self.columns as i64);
                 measured = measured.min(f64::from(
                     self.ranges[r as usize * self.columns + c as usize],
@@ -191,6 +208,30 @@ mod tests {
             }
         }
         out
+    }
+
+    #[test]
+    fn a_wide_window_does_not_see_through_beside_a_thin_post() {
+        // A post 0.15 m wide 15 m away, a wall 40 m away behind it.
+        let mut points = wall(40.0);
+        for k in 0..40 {
+            for i in 0..4 {
+                let y = -0.075 + 0.05 * i as f32;
+                points.push(Point::new(15.0, y, -1.5 + 0.05 * k as f32, 0.0));
+            }
+        }
+        let mut image = RangeImage::default();
+        image.build(&points);
+        // Where a view from a slightly wrong pose puts the post's edge: 0.2 m to its side.
+        let beside = Vector3::new(15.0, 0.2, -0.5);
+        assert_eq!(image.visibility(&beside), Visibility::SeenThrough);
+        assert_eq!(image.visibility_across(&beside, 0.4), Visibility::Hit);
+        // Nothing within 0.4 m: free space either way.
+        let clear = Vector3::new(15.0, 1.0, -0.5);
+        assert_eq!(
+            image.visibility_across(&clear, 0.4),
+            Visibility::SeenThrough
+        );
     }
 
     #[test]

@@ -1,0 +1,120 @@
+//! The tracker's motion evidence on synthetic scans with their range images: a post-thin
+//! walker (shaped like clutter, so reported only once seen moving) that comes straight at the
+//! sensor hides the place it left, and is judged moving because it now stands where the laser
+//! passed freely before; an identical post that stands still is never reported.
+
+use nalgebra::{Isometry3, Vector2, Vector3};
+use trackd_perception::Point;
+use trackd_perception::track::{
+    ClusterInput, Ground, RecentViews, ScanContext, TrackConfig, Tracker, View,
+};
+use trackd_perception::vfh::{BINS, Vfh};
+
+/// Sensor height above the ground (m).
+const SENSOR_Z: f64 = 1.73;
+
+/// A uniform signature: these tests exercise motion, not the VFH tests.
+const FLAT: Vfh = Vfh {
+    bins: [1.0 / BINS as f32; BINS],
+};
+
+/// The face of a post 0.18 m wide and 1.75 m tall at `center` that looks at the origin,
+/// world frame (ground at z = 0).
+fn post(center: Vector2<f64>) -> Vec<Point> {
+    let toward = -center.normalize();
+    let across = Vector2::new(-toward.y, toward.x);
+    let face = center + toward * 0.09;
+    let mut out = Vec::new();
+    for row in 0..32 {
+        let z = 0.2 + f64::from(row) * 0.05;
+        for i in 0..4 {
+            let p = face + across * (-0.09 + 0.06 * f64::from(i));
+            out.push(Point::new(p.x as f32, p.y as f32, z as f32, 0.0));
+        }
+    }
+    out
+}
+
+/// A wall across the view 40 m ahead: what the laser hits past the posts.
+fn wall() -> Vec<Point> {
+    let mut out = Vec::new();
+    for i in 0..400 {
+        for row in 0..30 {
+            let y = -20.0 + 0.1 * f64::from(i);
+            out.push(Point::new(
+                40.0,
+                y as f32,
+                (0.1 * f64::from(row)) as f32,
+                0.0,
+            ));
+        }
+    }
+    out
+}
+
+/// Runs 20 scans at 10 Hz with the sensor still at the origin; returns, per scan, the
+/// world positions of the reported tracks.
+fn run(posts: impl Fn(f64) -> Vec<Vector2<f64>>) -> Vec<Vec<Vector3<f64>>> {
+    let mut tracker = Tracker::new(TrackConfig::default());
+    let mut views = RecentViews::new(2.0);
+    let ground = Ground::horizontal(0.0);
+    let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
+    let cdf = FLAT.cdf();
+    let background = wall();
+    let mut out = Vec::new();
+    for k in 0..20 {
+        let t = f64::from(k) * 0.1;
+        let clouds: Vec<Vec<Point>> = posts(t).into_iter().map(post).collect();
+        let to_sensor = |p: &Point| Point::new(p.x, p.y, p.z - SENSOR_Z as f32, 0.0);
+        let sensor_points: Vec<Point> = clouds
+            .iter()
+            .flatten()
+            .chain(&background)
+            .map(to_sensor)
+            .collect();
+        let mut image = views.take_buffer(t);
+        image.build(&sensor_points);
+        views.push(View {
+            timestamp: t,
+            pose,
+            image,
+        });
+        let clusters: Vec<ClusterInput<'_>> = clouds
+            .iter()
+            .map(|points| ClusterInput {
+                points,
+                vfh: &FLAT,
+                cdf: &cdf,
+            })
+            .collect();
+        let scan = ScanContext {
+            timestamp: t,
+            pose,
+            ground: &ground,
+            range_limit: f64::INFINITY,
+            views: Some(&views),
+        };
+        tracker.step(&scan, &clusters);
+        out.push(tracker.reported().map(|tr| tr.state().center).collect());
+    }
+    out
+}
+
+#[test]
+fn a_walker_coming_straight_at_the_sensor_is_seen_moving() {
+    // 1.5 m/s towards the sensor, along its line of sight: the place it left stays hidden.
+    let out = run(|t| vec![Vector2::new(20.0 - 1.5 * t, 0.0)]);
+    let first = out.iter().position(|r| !r.is_empty());
+    assert!(
+        first.is_some_and(|k| k <= 8),
+        "reported from scan {first:?}, expected by scan 8"
+    );
+    let last = out.last().map(Vec::len);
+    assert_eq!(last, Some(1), "still reported at the end");
+}
+
+#[test]
+fn a_post_that_stands_still_is_never_reported() {
+    let out = run(|_| vec![Vector2::new(17.0, 3.0)]);
+    assert!(out.iter().all(Vec::is_empty), "{out:?}");
+}
