@@ -3,20 +3,15 @@
 //! sensor hides the place it left, and is judged moving because it now stands where the laser
 //! passed freely before; an identical post that stands still is never reported.
 
+mod track_support;
+
 use nalgebra::{Isometry3, Vector2, Vector3};
+use track_support::{FLAT, flat_clusters};
 use trackd_perception::Point;
-use trackd_perception::track::{
-    ClusterInput, Ground, RecentViews, ScanContext, TrackConfig, Tracker, View,
-};
-use trackd_perception::vfh::{BINS, Vfh};
+use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker, View};
 
 /// Sensor height above the ground (m).
 const SENSOR_Z: f64 = 1.73;
-
-/// A uniform signature: these tests exercise motion, not the VFH tests.
-const FLAT: Vfh = Vfh {
-    bins: [1.0 / BINS as f32; BINS],
-};
 
 /// The face of a post 0.18 m wide and 1.75 m tall at `center` that looks at the origin,
 /// world frame (ground at z = 0).
@@ -79,14 +74,7 @@ fn run(posts: impl Fn(f64) -> Vec<Vector2<f64>>) -> Vec<Vec<Vector3<f64>>> {
             pose,
             image,
         });
-        let clusters: Vec<ClusterInput<'_>> = clouds
-            .iter()
-            .map(|points| ClusterInput {
-                points,
-                vfh: &FLAT,
-                cdf: &cdf,
-            })
-            .collect();
+        let clusters = flat_clusters(&clouds, &cdf);
         let scan = ScanContext {
             timestamp: t,
             pose,

@@ -1,11 +1,11 @@
 //! The tracker on synthetic clusters: boxes seen from a sensor (their visible faces only),
 //! moving along straight lines, fed scan by scan.
 
+mod track_support;
+
 use nalgebra::{Isometry3, Vector2, Vector3};
-use trackd_perception::track::{
-    AssociationMode, ClusterInput, Ground, ScanContext, TrackConfig, Tracker,
-};
-use trackd_perception::vfh::{BINS, Vfh};
+use track_support::{FLAT, flat_clusters};
+use trackd_perception::track::{AssociationMode, Ground, ScanContext, TrackConfig, Tracker};
 use trackd_perception::{ObjectClass, Point};
 
 /// A box moving at constant velocity.
@@ -86,11 +86,6 @@ fn cyclist(start: (f64, f64), velocity: (f64, f64)) -> Body {
     }
 }
 
-/// A uniform signature: the tests here exercise geometry and motion, not the VFH tests.
-const FLAT: Vfh = Vfh {
-    bins: [1.0 / BINS as f32; BINS],
-};
-
 /// Output of one scan: (track id, class, world centre) of each reported track.
 type Reported = Vec<(u64, ObjectClass, Vector3<f64>)>;
 
@@ -114,14 +109,7 @@ fn run(
             .filter(|(i, _)| visible(k, *i))
             .map(|(_, b)| b.visible_points(t, 0.15))
             .collect();
-        let clusters: Vec<ClusterInput<'_>> = clouds
-            .iter()
-            .map(|points| ClusterInput {
-                points,
-                vfh: &FLAT,
-                cdf: &cdf,
-            })
-            .collect();
+        let clusters = flat_clusters(&clouds, &cdf);
         let scan = ScanContext {
             timestamp: t,
             pose: Isometry3::translation(0.0, 0.0, 1.73),

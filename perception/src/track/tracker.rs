@@ -616,9 +616,7 @@ fn judge_motion(
     let c = &config.classify;
     let age = scan.timestamp - t.probe_time;
     if !t.probes.is_empty() && age >= c.motion_probe_min_age {
-        let left = count_views(now, t.probes.iter().copied(), |image, p| {
-            image.visibility(p)
-        });
+        let left = count_views(now, t.probes.iter().copied(), RangeImage::visibility);
         let then = views.at(t.probe_time).filter(|_| may_have_arrived);
         let arrived = then.map_or((0, 0), |then| {
             count_views(then, probe_points(points, scan), |image, p| {

@@ -40,7 +40,7 @@ impl RecentViews {
     /// the history keeps (its allocation is reused), else a new one.
     pub fn take_buffer(&mut self, timestamp: f64) -> RangeImage {
         match self.views.front() {
-            Some(oldest) if timestamp - oldest.timestamp > self.keep => {
+            Some(oldest) if self.expired(oldest, timestamp) => {
                 self.views.pop_front().map(|v| v.image).unwrap_or_default()
             }
             _ => RangeImage::default(),
@@ -49,9 +49,19 @@ impl RecentViews {
 
     /// Adds the newest scan's view and forgets views older than the history keeps.
     pub fn push(&mut self, view: View) {
-        let keep = self.keep;
-        self.views.retain(|v| view.timestamp - v.timestamp <= keep);
+        while self
+            .views
+            .front()
+            .is_some_and(|oldest| self.expired(oldest, view.timestamp))
+        {
+            self.views.pop_front();
+        }
         self.views.push_back(view);
+    }
+
+    /// Whether `view` is older than the history keeps at `timestamp`.
+    fn expired(&self, view: &View, timestamp: f64) -> bool {
+        timestamp - view.timestamp > self.keep
     }
 
     /// Forgets every view (the world frame is lost).
