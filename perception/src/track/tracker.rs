@@ -589,6 +589,10 @@ const PROBE_MIN_HEIGHT: f64 = 0.4;
 /// direction up to this far (m) to either side of its points: a pose error or a thin post's
 /// narrow silhouette in a far view does not make a static object look arrived.
 const ARRIVAL_HALF_WIDTH: f64 = 0.4;
+/// An object has left the place of a probe when the scan now sees farther along every
+/// direction up to this far (m) to either side of it: near the sensor a cell is a few
+/// centimetres wide, and the pose's error would otherwise show a close post as gone.
+const LEFT_HALF_WIDTH: f64 = 0.15;
 /// Arrival is judged only on a view shaped like an object whose centre lies within this (m)
 /// of the track's predicted box: a track that jumped to another cluster stands where the
 /// laser passed freely before, and has not moved.
@@ -616,7 +620,9 @@ fn judge_motion(
     let c = &config.classify;
     let age = scan.timestamp - t.probe_time;
     if !t.probes.is_empty() && age >= c.motion_probe_min_age {
-        let left = count_views(now, t.probes.iter().copied(), RangeImage::visibility);
+        let left = count_views(now, t.probes.iter().copied(), |image, p| {
+            image.visibility_across(p, LEFT_HALF_WIDTH)
+        });
         let then = views.at(t.probe_time).filter(|_| may_have_arrived);
         let arrived = then.map_or((0, 0), |then| {
             count_views(then, probe_points(points, scan), |image, p| {
