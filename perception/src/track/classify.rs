@@ -71,7 +71,7 @@ pub struct ClassifyConfig {
     /// Shortest longer BEV side (m) of a person: thinner is a post. Default 0.15.
     pub person_min_length: f64,
     /// A static person must be at least this long (m) and as wide at the shoulders (upper
-    /// third): posts, trunks and sign poles are thinner. Default 0.4.
+    /// third): posts, trunks and sign poles are thinner. Default 0.2.
     pub static_person_min_width: f64,
     /// Highest lowest point (m) of a car: wheels are on the ground. Default 0.8.
     pub car_max_bottom: f64,

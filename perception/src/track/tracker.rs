@@ -95,6 +95,9 @@ pub struct Track {
     /// The highest top above the ground (m) of a view shaped like a car lately, sinking by
     /// [`TOP_SINK`] a scan; 0 when none was.
     car_top: f64,
+    /// The widest upper body (m) of a view shaped like a person lately, sinking by
+    /// [`WIDTH_SINK`] a scan; 0 when none was.
+    person_width: f64,
     moving: bool,
     /// Points of an earlier cluster of the track (world frame) and when they were seen.
     probes: Vec<Vector3<f64>>,
@@ -372,8 +375,10 @@ impl Tracker {
         t.misses = 0;
         t.cluster = Some(j);
         t.car_top = (t.car_top - TOP_SINK).max(car_top(o));
+        t.person_width = (t.person_width - WIDTH_SINK).max(person_width(o));
         t.votes.add(
-            verdict_with_car_top(o, t.car_top, config),
+            verdict_with_person_width(o, t.person_width, config)
+                .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
             config.classify.vote_memory,
         );
         if !o.clipped {
@@ -438,6 +443,7 @@ impl Tracker {
             misses: 0,
             votes,
             car_top: car_top(o),
+            person_width: person_width(o),
             moving: false,
             probes: Vec::new(),
             probe_time: scan.timestamp,
@@ -488,6 +494,50 @@ fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> 
     };
     let lifted = classify_shape(&shape, &config.classify);
     if is_car(lifted) { lifted } else { o.verdict }
+}
+
+/// How fast (m per scan) the remembered upper-body width of a track narrows towards what is
+/// seen now.
+const WIDTH_SINK: f64 = 0.01;
+
+/// The upper width (m) of view `o` if it is shaped like a person, else 0.
+fn person_width(o: &Observation) -> f64 {
+    let person = matches!(
+        o.verdict,
+        ShapeVerdict::Object(ObjectClass::Pedestrian | ObjectClass::Cyclist)
+            | ShapeVerdict::Movable(ObjectClass::Pedestrian | ObjectClass::Cyclist)
+    );
+    if person { o.shape.upper_width } else { 0.0 }
+}
+
+/// The verdict on view `o`, shaped like a person but too narrow to be sure of, of a track whose
+/// person-shaped views were up to `person_width` wide lately, if that makes it sure. A far
+/// view's widths fall short by up to a column's spacing (13 cm at 40 m), more or less from scan
+/// to scan as the columns fall on the body; a post stays as thin as it is, a person's shoulders
+/// and swinging arms show their width in some views.
+fn verdict_with_person_width(
+    o: &Observation,
+    person_width: f64,
+    config: &TrackConfig,
+) -> Option<ShapeVerdict> {
+    let narrow = matches!(
+        o.verdict,
+        ShapeVerdict::Movable(ObjectClass::Pedestrian | ObjectClass::Cyclist)
+    ) && person_width > o.shape.upper_width;
+    if !narrow {
+        return None;
+    }
+    let shape = ShapeFeatures {
+        upper_width: person_width,
+        length: o.shape.length.max(person_width),
+        ..o.shape
+    };
+    let lifted = classify_shape(&shape, &config.classify);
+    matches!(
+        lifted,
+        ShapeVerdict::Object(ObjectClass::Pedestrian | ObjectClass::Cyclist)
+    )
+    .then_some(lifted)
 }
 
 /// A view whose outline is thinner than this (m) shows one face only.
