@@ -502,12 +502,16 @@ const WIDTH_SINK: f64 = 0.01;
 
 /// The upper width (m) of view `o` if it is shaped like a person, else 0.
 fn person_width(o: &Observation) -> f64 {
-    let person = matches!(
-        o.verdict,
-        ShapeVerdict::Object(ObjectClass::Pedestrian | ObjectClass::Cyclist)
-            | ShapeVerdict::Movable(ObjectClass::Pedestrian | ObjectClass::Cyclist)
-    );
+    let person = match o.verdict {
+        ShapeVerdict::Object(class) | ShapeVerdict::Movable(class) => is_person(class),
+        _ => false,
+    };
     if person { o.shape.upper_width } else { 0.0 }
+}
+
+/// Whether a class is a person: a pedestrian or a cyclist.
+fn is_person(class: ObjectClass) -> bool {
+    matches!(class, ObjectClass::Pedestrian | ObjectClass::Cyclist)
 }
 
 /// The verdict on view `o`, shaped like a person but too narrow to be sure of, of a track whose
@@ -520,11 +524,8 @@ fn verdict_with_person_width(
     person_width: f64,
     config: &TrackConfig,
 ) -> Option<ShapeVerdict> {
-    let narrow = matches!(
-        o.verdict,
-        ShapeVerdict::Movable(ObjectClass::Pedestrian | ObjectClass::Cyclist)
-    ) && person_width > o.shape.upper_width;
-    if !narrow {
+    let narrow = matches!(o.verdict, ShapeVerdict::Movable(class) if is_person(class));
+    if !narrow || person_width <= o.shape.upper_width {
         return None;
     }
     let shape = ShapeFeatures {
@@ -533,11 +534,7 @@ fn verdict_with_person_width(
         ..o.shape
     };
     let lifted = classify_shape(&shape, &config.classify);
-    matches!(
-        lifted,
-        ShapeVerdict::Object(ObjectClass::Pedestrian | ObjectClass::Cyclist)
-    )
-    .then_some(lifted)
+    matches!(lifted, ShapeVerdict::Object(class) if is_person(class)).then_some(lifted)
 }
 
 /// A view whose outline is thinner than this (m) shows one face only.

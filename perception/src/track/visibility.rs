@@ -115,14 +115,10 @@ impl RangeImage {
     }
 
     /// What the scan shows of the sensor-frame point `p`. It is seen through only when the
-    /// scan measured farther in its cell and the 8 cells around: a point on the edge of a
-    /// thin post seen from a new angle is not free space.
-    pub fn visibility(&self, p: &Vector3<f64>) -> Visibility {
-        self.visibility_in_window(p, 1)
-    }
-
-    /// [`Self::visibility`] over a wider window: the cell rows above and below `p`'s, and the
-    /// columns up to `half_width` metres to either side of it at its range (at least one).
+    /// scan measured farther in its cell, the cell rows above and below, and the columns up to
+    /// `half_width` metres to either side of it at its range (at least one: a half-width of 0
+    /// is the cell and its 8 neighbours). A point on the edge of a thin post seen from a new
+    /// angle, or from a pose a little off, is not free space.
     pub fn visibility_across(&self, p: &Vector3<f64>, half_width: f64) -> Visibility {
         let horizontal = (p.x * p.x + p.y * p.y).sqrt();
         let angle = (half_width / horizontal.max(1e-3)).atan().to_degrees();
@@ -224,7 +220,10 @@ mod tests {
         image.build(&points);
         // Where a view from a slightly wrong pose puts the post's edge: 0.2 m to its side.
         let beside = Vector3::new(15.0, 0.2, -0.5);
-        assert_eq!(image.visibility(&beside), Visibility::SeenThrough);
+        assert_eq!(
+            image.visibility_across(&beside, 0.0),
+            Visibility::SeenThrough
+        );
         assert_eq!(image.visibility_across(&beside, 0.4), Visibility::Hit);
         // Nothing within 0.4 m: free space either way.
         let clear = Vector3::new(15.0, 1.0, -0.5);
@@ -239,20 +238,20 @@ mod tests {
         let mut image = RangeImage::default();
         image.build(&wall(10.0));
         assert_eq!(
-            image.visibility(&Vector3::new(5.0, 0.0, 0.0)),
+            image.visibility_across(&Vector3::new(5.0, 0.0, 0.0), 0.0),
             Visibility::SeenThrough
         );
         assert_eq!(
-            image.visibility(&Vector3::new(10.0, 0.5, 0.0)),
+            image.visibility_across(&Vector3::new(10.0, 0.5, 0.0), 0.0),
             Visibility::Hit
         );
         assert_eq!(
-            image.visibility(&Vector3::new(15.0, 0.5, 0.0)),
+            image.visibility_across(&Vector3::new(15.0, 0.5, 0.0), 0.0),
             Visibility::Hidden
         );
         // Nothing measured behind the sensor.
         assert_eq!(
-            image.visibility(&Vector3::new(-5.0, 0.0, 0.0)),
+            image.visibility_across(&Vector3::new(-5.0, 0.0, 0.0), 0.0),
             Visibility::Unknown
         );
     }
