@@ -13,8 +13,15 @@ const ONE_FACE_DEPTH: f64 = 0.3;
 /// Faces shorter than this (m) are not judged: a rider's back hides no second face worth
 /// seeing.
 const MIN_OBLIQUE_FACE: f64 = 1.2;
-/// A face is seen edge-on when the sensor lies farther than this (m) beyond its ends.
+/// A face is seen edge-on when the sensor lies farther than this (m) beyond its ends, and
+/// far enough beyond them that a box's second face would show (see [`second_face_offset`]).
 const OBLIQUE_MARGIN: f64 = 1.0;
+/// Horizontal angle between two columns of a KITTI-like scan (rad, ~0.17°).
+const SCAN_AZIMUTH_STEP: f64 = 0.003;
+/// Columns a second face must span to be surely seen.
+const SECOND_FACE_COLUMNS: f64 = 3.0;
+/// The narrowest second face of a box-shaped object (m): a car's rear.
+const SECOND_FACE_DEPTH: f64 = 1.6;
 
 /// A cluster with a point this close (m) to the range limit is cut by it.
 const CLIP_MARGIN: f64 = 1.0;
@@ -51,6 +58,14 @@ impl Observation {
         let c = self.rect.center;
         [c + a + b, c + a - b, c - a + b, c - a - b]
     }
+}
+
+/// How far (m) beyond a face's end a sensor `range` metres away must stand to see a box's
+/// second face across [`SECOND_FACE_COLUMNS`] columns: a face `D` deep seen from `b` beyond
+/// the end spans about `D b / r` across, `D b / r²` radians. At 10 m that is 0.6 m, at 40 m
+/// 9 m: a car's rear seen almost head-on at range hides its side.
+fn second_face_offset(range: f64) -> f64 {
+    SECOND_FACE_COLUMNS * SCAN_AZIMUTH_STEP * range * range / SECOND_FACE_DEPTH
 }
 
 /// Computes observations, reusing its buffers from cluster to cluster.
@@ -113,10 +128,11 @@ impl Observer {
         } else {
             Vector2::new(-rect.axis().y, rect.axis().x)
         };
-        let along = (sensor.xy() - rect.center).dot(&long_axis).abs();
+        let to_sensor = sensor.xy() - rect.center;
+        let beyond_end = to_sensor.dot(&long_axis).abs() - rect.extent.max() / 2.0;
         let oblique_face = rect.extent.min() < ONE_FACE_DEPTH
             && rect.extent.max() > MIN_OBLIQUE_FACE
-            && along > rect.extent.max() / 2.0 + OBLIQUE_MARGIN;
+            && beyond_end > OBLIQUE_MARGIN.max(second_face_offset(to_sensor.norm()));
         let shape = ShapeFeatures {
             length: rect.extent.max(),
             width: rect.extent.min(),
@@ -251,5 +267,41 @@ mod tests {
         let person = box_points(Vector3::new(8.0, 0.0, 0.2), 0.5, 0.5, 1.5);
         let o = observe(&person, &ground);
         assert!(!o.shape.truncated);
+    }
+
+    /// A vertical face `length` long through `center`, along `axis` (one column of points
+    /// every 0.1 m, 0.3 to 1.8 m above the ground).
+    fn face(center: Vector2<f64>, axis: Vector2<f64>, length: f64) -> Vec<Point> {
+        let axis = axis.normalize();
+        let mut out = Vec::new();
+        for i in 0..=(length / 0.1).round() as i32 {
+            let p = center + axis * (i as f64 * 0.1 - length / 2.0);
+            for j in 0..6 {
+                out.push(Point::new(
+                    p.x as f32,
+                    p.y as f32,
+                    0.3 + j as f32 * 0.3,
+                    0.0,
+                ));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_face_is_edge_on_only_when_a_second_face_would_show() {
+        let ground = Ground::horizontal(0.0);
+        // A car's rear 2 m wide, 44 m ahead, the sensor 2.6 m to the side of its axis: 1.6 m
+        // beyond its end, from where a car's side would span one column. Not edge-on.
+        let rear = face(Vector2::new(44.0, 2.6), Vector2::new(0.0, 1.0), 2.0);
+        assert!(!observe(&rear, &ground).shape.oblique_face);
+        // A fence strip 4 m long, 30 m away, seen along its length: edge-on.
+        let strip = face(Vector2::new(30.0, 3.0), Vector2::new(1.0, 0.2), 4.0);
+        let o = observe(&strip, &ground);
+        assert!(o.shape.oblique_face);
+        assert_eq!(o.verdict, ShapeVerdict::Unknown);
+        // Near the sensor 1.6 m beyond the end is enough.
+        let near = face(Vector2::new(8.0, 2.6), Vector2::new(0.0, 1.0), 2.0);
+        assert!(observe(&near, &ground).shape.oblique_face);
     }
 }
