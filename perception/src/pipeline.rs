@@ -115,6 +115,10 @@ pub enum PipelineError {
     Cluster(#[from] ClusterError),
 }
 
+/// What VFH tells of one cluster: its histogram, the histogram's CDF and the cluster's surface
+/// variation.
+type Signature = (Vfh, [f32; BINS], f32);
+
 /// The clusters of one scan, gathered contiguously: what VFH and tracking read.
 #[derive(Debug, Default)]
 struct Clusters {
@@ -123,7 +127,7 @@ struct Clusters {
     /// Each cluster's points.
     ranges: Vec<Range<usize>>,
     /// Each cluster's VFH and its CDF (`None`: too few points to describe).
-    signatures: Vec<Option<(Vfh, [f32; BINS])>>,
+    signatures: Vec<Option<Signature>>,
 }
 
 /// Reusable buffers of the stages.
@@ -307,11 +311,12 @@ impl Pipeline {
             .described
             .iter()
             .filter_map(|&k| {
-                let (vfh, cdf) = c.signatures[k].as_ref()?;
+                let (vfh, cdf, surface_variation) = c.signatures[k].as_ref()?;
                 Some(ClusterInput {
                     points: &c.points[c.ranges[k].clone()],
                     vfh,
                     cdf,
+                    surface_variation: *surface_variation,
                 })
             })
             .collect();
@@ -551,7 +556,7 @@ impl Pipeline {
                 |estimator, r| {
                     estimator
                         .compute(&points[r.clone()], viewpoint)
-                        .map(|vfh| (vfh, vfh.cdf()))
+                        .map(|vfh| (vfh, vfh.cdf(), estimator.surface_variation()))
                 },
             )
             .collect_into_vec(&mut c.signatures);

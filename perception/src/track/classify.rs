@@ -88,6 +88,9 @@ pub struct ClassifyConfig {
     /// A car's upper third (roof, windows) is at least this fraction of its lower third's
     /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.4.
     pub car_min_upper_ratio: f64,
+    /// Highest mean surface variation of a car's view: a car's body is smooth, the returns
+    /// from inside a bush or a hedge of a car's size are scattered. Default 0.07.
+    pub car_max_surface_variation: f64,
     /// Upper edge of the LiDAR's vertical field of view (degrees above horizontal): a cluster
     /// whose top reaches it may be taller than it looks. Default 2.0 (HDL-64E).
     pub sensor_upper_fov_deg: f64,
@@ -147,6 +150,7 @@ impl Default for ClassifyConfig {
             car_max_length: 6.5,
             static_car_min_length: 1.6,
             car_min_upper_ratio: 0.4,
+            car_max_surface_variation: 0.07,
             sensor_upper_fov_deg: 2.0,
             truncation_tolerance_deg: 0.4,
             motion_probe_min_age: 0.3,
@@ -190,6 +194,9 @@ pub struct ShapeFeatures {
     /// Whether the view is one flat face seen at a grazing angle: a box-shaped object seen so
     /// would show a second face, a wall does not.
     pub oblique_face: bool,
+    /// Mean surface variation of the points' neighbourhoods: near 0 on smooth surfaces,
+    /// higher in scattered returns (foliage).
+    pub surface_variation: f64,
 }
 
 /// Why a view is static structure.
@@ -207,6 +214,8 @@ pub enum StructureKind {
     Pole,
     /// Much wider at the top than at the bottom.
     Tree,
+    /// Shaped like a car, but its returns scattered through a volume: a bush, a hedge.
+    Foliage,
 }
 
 /// The verdict on one view of a cluster.
@@ -273,6 +282,9 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         && f.upper_width >= c.car_min_upper_ratio * f.lower_width;
     if !grounded_box {
         return ShapeVerdict::Unknown;
+    }
+    if f.surface_variation > c.car_max_surface_variation {
+        return Structure(Foliage);
     }
     // A top cut by the field of view is no lower than the cut, which is where it was seen:
     // `top` bounds the height from below either way.
@@ -381,7 +393,35 @@ mod tests {
             lower_width: lower,
             truncated: false,
             oblique_face: false,
+            surface_variation: 0.0,
         }
+    }
+
+    #[test]
+    fn a_car_shaped_view_with_scattered_returns_is_foliage() {
+        let c = ClassifyConfig::default();
+        let smooth = features(4.0, 1.7, 1.5, 2.5, 4.0);
+        assert_eq!(
+            classify_shape(&smooth, &c),
+            ShapeVerdict::Object(ObjectClass::Car)
+        );
+        let hedge = ShapeFeatures {
+            surface_variation: 0.11,
+            ..smooth
+        };
+        assert_eq!(
+            classify_shape(&hedge, &c),
+            ShapeVerdict::Structure(StructureKind::Foliage)
+        );
+        // A person's shape is not judged by it.
+        let person = ShapeFeatures {
+            surface_variation: 0.11,
+            ..features(0.7, 0.5, 1.75, 0.45, 0.6)
+        };
+        assert!(matches!(
+            classify_shape(&person, &c),
+            ShapeVerdict::Object(_)
+        ));
     }
 
     #[test]
@@ -486,6 +526,7 @@ mod tests {
         // One flat face 2 m long, seen edge-on from 20 m along it: a wall, not a car's back.
         let wall = ShapeFeatures {
             oblique_face: true,
+            surface_variation: 0.0,
             ..features(2.0, 0.05, 1.8, 2.0, 2.0)
         };
         assert_eq!(v(wall), ShapeVerdict::Unknown);

@@ -76,11 +76,13 @@ pub struct Observer {
 }
 
 impl Observer {
-    /// Measures the cluster made of `points` (world frame) seen by the sensor at `pose`, whose
-    /// scan was cut at `range_limit` metres.
+    /// Measures the cluster made of `points` (world frame), of mean surface variation
+    /// `surface_variation`, seen by the sensor at `pose`, whose scan was cut at `range_limit`
+    /// metres.
     pub fn observe(
         &mut self,
         points: &[Point],
+        surface_variation: f32,
         pose: &Isometry3<f64>,
         range_limit: f64,
         ground: &Ground,
@@ -142,6 +144,7 @@ impl Observer {
             lower_width,
             truncated,
             oblique_face,
+            surface_variation: f64::from(surface_variation),
         };
         let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
         Observation {
@@ -184,7 +187,14 @@ mod tests {
     /// The observation of `points` by a sensor 1.73 m above the origin, scan cut at 50 m.
     fn observe(points: &[Point], ground: &Ground) -> Observation {
         let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        Observer::default().observe(points, &sensor, 50.0, ground, &ClassifyConfig::default())
+        Observer::default().observe(
+            points,
+            0.0,
+            &sensor,
+            50.0,
+            ground,
+            &ClassifyConfig::default(),
+        )
     }
 
     /// A solid box of points (a grid over its four vertical faces).

@@ -39,6 +39,9 @@ pub struct ClusterInput<'a> {
     pub vfh: &'a Vfh,
     /// The VFH's cumulative distribution.
     pub cdf: &'a [f32; BINS],
+    /// The mean surface variation of its points' neighbourhoods (see
+    /// [`VfhEstimator::surface_variation`](crate::vfh::VfhEstimator::surface_variation)).
+    pub surface_variation: f32,
 }
 
 /// Where and when a scan was taken.
@@ -249,6 +252,7 @@ impl Tracker {
             .map_init(Observer::default, |observer, c| {
                 observer.observe(
                     c.points,
+                    c.surface_variation,
                     &scan.pose,
                     scan.range_limit,
                     scan.ground,

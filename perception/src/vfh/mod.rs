@@ -115,6 +115,7 @@ pub struct VfhEstimator {
     config: VfhConfig,
     xyz: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
+    surface_variation: f32,
     tree: knn::KnnTree,
 }
 
@@ -151,6 +152,13 @@ impl VfhEstimator {
     /// `ceil(n / max_points)`-th point), in their order.
     pub fn normals(&self) -> &[[f32; 3]] {
         &self.normals
+    }
+
+    /// The mean surface variation of the points' neighbourhoods (PCL's curvature, from the
+    /// same PCA as the normals) in the last [`compute`](Self::compute): near 0 on smooth
+    /// surfaces (a car's body, a wall), higher in scattered returns (foliage).
+    pub fn surface_variation(&self) -> f32 {
+        self.surface_variation
     }
 
     /// The VFH of every cluster of `clustering` (over `points`) with at least `min_points`
@@ -196,7 +204,7 @@ impl VfhEstimator {
             return None;
         }
         let viewpoint = viewpoint.map(|c| c as f32);
-        normals::estimate_normals(
+        self.surface_variation = normals::estimate_normals(
             &self.xyz,
             self.config.normal_k,
             viewpoint,
@@ -300,6 +308,29 @@ mod tests {
             .unwrap();
         assert!(chi_squared(&a, &c) > 0.3, "{}", chi_squared(&a, &c));
         assert!(max_deviation(&a.cdf(), &c.cdf()) > 0.1);
+    }
+
+    #[test]
+    fn foliage_is_rougher_than_a_car_body() {
+        let mut estimator = VfhEstimator::default();
+        let (body, origin) = car(0.3, [0.0; 3]);
+        estimator.compute(&body, origin).unwrap();
+        let smooth = estimator.surface_variation();
+        // Returns from anywhere inside a 2 x 1.5 x 1.2 m crown.
+        let mut state = 11u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let bush: Vec<Point> = (0..400)
+            .map(|_| Point::new(10.0 + 2.0 * next(), 1.5 * next(), 1.2 * next() - 1.5, 0.0))
+            .collect();
+        estimator.compute(&bush, [0.0; 3]).unwrap();
+        let scattered = estimator.surface_variation();
+        let limit =
+            crate::track::classify::ClassifyConfig::default().car_max_surface_variation as f32;
+        assert!(smooth < 0.5 * limit, "car body {smooth}");
+        assert!(scattered > 1.5 * limit, "bush {scattered}");
     }
 
     #[test]

@@ -19,6 +19,7 @@ pub fn flat_clusters<'a>(clouds: &'a [Vec<Point>], cdf: &'a [f32; BINS]) -> Vec<
             points,
             vfh: &FLAT,
             cdf,
+            surface_variation: 0.0,
         })
         .collect()
 }

@@ -10,7 +10,7 @@ use trackd_perception::track::Tracker;
 
 /// Header of `clusters.csv`.
 pub const HEADER: &str = "frame,cluster,x,y,npoints,length,width,top,bottom,upper_width,\
-lower_width,truncated,oblique,verdict,track_id,track_hits,track_moving,track_identity,reported";
+lower_width,surface_variation,truncated,oblique,verdict,track_id,track_hits,track_moving,track_identity,reported";
 
 /// The open `clusters.csv`.
 pub struct ClustersCsv(pub BufWriter<File>);
@@ -37,7 +37,7 @@ impl ClustersCsv {
             let f = &o.shape;
             write!(
                 self.0,
-                "{index},{j},{:.3},{:.3},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{:?},",
+                "{index},{j},{:.3},{:.3},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.4},{},{},{:?},",
                 c.x,
                 c.y,
                 o.points,
@@ -47,6 +47,7 @@ impl ClustersCsv {
                 f.bottom,
                 f.upper_width,
                 f.lower_width,
+                f.surface_variation,
                 f.truncated,
                 f.oblique_face,
                 o.verdict
