@@ -30,6 +30,12 @@ pub struct ClassSize {
 pub struct ClassifyConfig {
     /// Typical car. Default 4.5 × 1.8 × 1.6 m.
     pub car_size: ClassSize,
+    /// Typical truck or bus: a moving car-class track at least `truck_min_height` tall. Default
+    /// 9 × 2.5 × 3.3 m.
+    pub truck_size: ClassSize,
+    /// A moving car-class track this tall (m) or taller is sized as a truck: seen from behind, its
+    /// length never shows, and a car's length would put its centre metres off. Default 2.8.
+    pub truck_min_height: f64,
     /// Typical cyclist. Default 1.8 × 0.6 × 1.75 m.
     pub cyclist_size: ClassSize,
     /// Typical pedestrian. Default 0.8 × 0.6 × 1.75 m.
@@ -117,6 +123,12 @@ impl Default for ClassifyConfig {
                 width: 1.8,
                 height: 1.6,
             },
+            truck_size: ClassSize {
+                length: 9.0,
+                width: 2.5,
+                height: 3.3,
+            },
+            truck_min_height: 2.8,
             cyclist_size: ClassSize {
                 length: 1.8,
                 width: 0.6,

@@ -582,16 +582,20 @@ fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
     }
 }
 
-/// The size prior of the track's class (its identity, else this view's verdict), else what
-/// the track has seen.
+/// The size prior of the track's class (its identity, else this view's verdict; a car as
+/// tall as a truck is a truck once seen moving: a facade cut by the field of view is as
+/// tall), else what the track has seen.
 fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
     let class = t.identity().or(match o.verdict {
         ShapeVerdict::Object(c) | ShapeVerdict::Movable(c) => Some(c),
         _ => None,
     });
-    class
-        .and_then(|c| config.classify.size_of(c))
-        .map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
+    let c = &config.classify;
+    let prior = match class {
+        Some(ObjectClass::Car) if t.moving && t.size.z >= c.truck_min_height => Some(c.truck_size),
+        other => other.and_then(|class| c.size_of(class)),
+    };
+    prior.map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
 }
 
 /// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
