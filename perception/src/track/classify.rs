@@ -97,6 +97,9 @@ pub struct ClassifyConfig {
     /// Highest mean surface variation of a car's view: a car's body is smooth, the returns
     /// from inside a bush or a hedge of a car's size are scattered. Default 0.07.
     pub car_max_surface_variation: f64,
+    /// Highest mean surface variation of a sure person's view (rougher: a person-sized bush,
+    /// which is a person only if it moves). Default 0.12.
+    pub person_max_surface_variation: f64,
     /// Upper edge of the LiDAR's vertical field of view (degrees above horizontal): a cluster
     /// whose top reaches it may be taller than it looks. Default 2.0 (HDL-64E).
     pub sensor_upper_fov_deg: f64,
@@ -163,6 +166,7 @@ impl Default for ClassifyConfig {
             static_car_min_length: 1.6,
             car_min_upper_ratio: 0.4,
             car_max_surface_variation: 0.07,
+            person_max_surface_variation: 0.12,
             sensor_upper_fov_deg: 2.0,
             truncation_tolerance_deg: 0.4,
             motion_probe_min_age: 0.3,
@@ -286,7 +290,8 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         // A top cut by the field of view may belong to a trunk or a post.
         let sure = !f.truncated
             && f.length >= c.static_person_min_width
-            && f.upper_width >= c.static_person_min_width;
+            && f.upper_width >= c.static_person_min_width
+            && f.surface_variation <= c.person_max_surface_variation;
         return if sure { Object(class) } else { Movable(class) };
     }
     let grounded_box = (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
@@ -410,7 +415,7 @@ mod tests {
     }
 
     #[test]
-    fn a_car_shaped_view_with_scattered_returns_is_foliage() {
+    fn scattered_returns_are_foliage_or_a_person_only_if_moving() {
         let c = ClassifyConfig::default();
         let smooth = features(4.0, 1.7, 1.5, 2.5, 4.0);
         assert_eq!(
@@ -425,15 +430,24 @@ mod tests {
             classify_shape(&hedge, &c),
             ShapeVerdict::Structure(StructureKind::Foliage)
         );
-        // A person's shape is not judged by it.
+        // A person may be rougher than a car; a person-sized bush is rougher still, and a
+        // person only if it moves.
         let person = ShapeFeatures {
             surface_variation: 0.11,
             ..features(0.7, 0.5, 1.75, 0.45, 0.6)
         };
-        assert!(matches!(
+        assert_eq!(
             classify_shape(&person, &c),
-            ShapeVerdict::Object(_)
-        ));
+            ShapeVerdict::Object(ObjectClass::Pedestrian)
+        );
+        let bush = ShapeFeatures {
+            surface_variation: 0.15,
+            ..person
+        };
+        assert_eq!(
+            classify_shape(&bush, &c),
+            ShapeVerdict::Movable(ObjectClass::Pedestrian)
+        );
     }
 
     #[test]
