@@ -6,14 +6,13 @@
 //! the view near the sensor is seen moving.
 
 mod track_support;
+mod view_support;
 
 use nalgebra::{Isometry3, Vector2, Vector3};
 use track_support::{FLAT, flat_clusters};
 use trackd_perception::Point;
-use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker, View};
-
-/// Sensor height above the ground (m).
-const SENSOR_Z: f64 = 1.73;
+use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker};
+use view_support::{SENSOR_Z, record_view};
 
 /// The face of a post 0.18 m wide and 1.75 m tall at `center` that looks at the origin,
 /// world frame (ground at z = 0).
@@ -79,20 +78,12 @@ fn run_with_pose_error(
         let error = pose_error(k);
         let pose = Isometry3::translation(error.x, error.y, SENSOR_Z);
         let clouds: Vec<Vec<Point>> = posts(t).into_iter().map(post).collect();
-        let to_sensor = |p: &Point| Point::new(p.x, p.y, p.z - SENSOR_Z as f32, 0.0);
-        let sensor_points: Vec<Point> = clouds
-            .iter()
-            .flatten()
-            .chain(&background)
-            .map(to_sensor)
-            .collect();
-        let mut image = views.take_buffer(t);
-        image.build(&sensor_points);
-        views.push(View {
-            timestamp: t,
+        record_view(
+            &mut views,
+            t,
             pose,
-            image,
-        });
+            clouds.iter().flatten().chain(&background),
+        );
         let seen: Vec<Vec<Point>> = clouds
             .iter()
             .map(|c| {

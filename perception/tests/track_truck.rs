@@ -3,14 +3,14 @@
 //! car's (which would put it 2.5 m short of its true centre).
 
 mod track_support;
+mod view_support;
 
 use nalgebra::{Isometry3, Vector2};
 use track_support::{FLAT, flat_clusters};
 use trackd_perception::Point;
-use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker, View};
+use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker};
+use view_support::{SENSOR_Z, record_view};
 
-/// Sensor height above the ground (m).
-const SENSOR_Z: f64 = 1.73;
 /// The truck: 9.5 m long, 2.5 m wide, 3.3 m tall.
 const LENGTH: f64 = 9.5;
 const WIDTH: f64 = 2.5;
@@ -43,17 +43,7 @@ fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
         let t = f64::from(k) * 0.1;
         let center = 15.0 + 8.0 * t;
         let points = rear(center);
-        let in_sensor: Vec<Point> = points
-            .iter()
-            .map(|p| Point::new(p.x, p.y, p.z - SENSOR_Z as f32, 0.0))
-            .collect();
-        let mut image = views.take_buffer(t);
-        image.build(&in_sensor);
-        views.push(View {
-            timestamp: t,
-            pose,
-            image,
-        });
+        record_view(&mut views, t, pose, &points);
         let clouds = vec![points];
         let scan = ScanContext {
             timestamp: t,

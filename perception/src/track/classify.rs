@@ -552,7 +552,6 @@ mod tests {
         // One flat face 2 m long, seen edge-on from 20 m along it: a wall, not a car's back.
         let wall = ShapeFeatures {
             oblique_face: true,
-            surface_variation: 0.0,
             ..features(2.0, 0.05, 1.8, 2.0, 2.0)
         };
         assert_eq!(v(wall), ShapeVerdict::Unknown);

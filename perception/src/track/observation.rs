@@ -302,7 +302,7 @@ mod tests {
     fn a_face_is_edge_on_only_when_a_second_face_would_show() {
         let ground = Ground::horizontal(0.0);
         // A car's rear 2 m wide, 44 m ahead, the sensor 2.6 m to the side of its axis: 1.6 m
-        // beyond its end, from where a car's side would span one column. Not edge-on.
+        // beyond its end, from where a car's side would span about one column. Not edge-on.
         let rear = face(Vector2::new(44.0, 2.6), Vector2::new(0.0, 1.0), 2.0);
         assert!(!observe(&rear, &ground).shape.oblique_face);
         // A fence strip 4 m long, 30 m away, seen along its length: edge-on.

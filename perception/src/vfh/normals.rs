@@ -68,7 +68,7 @@ mod tests {
         for n in &normals {
             assert!((n[2] - 1.0).abs() < 1e-5, "{n:?}");
         }
-        let _ = estimate_normals(&points, 10, [0.0, 0.0, -5.0], &mut tree, &mut normals);
+        estimate_normals(&points, 10, [0.0, 0.0, -5.0], &mut tree, &mut normals);
         assert!(normals.iter().all(|n| (n[2] + 1.0).abs() < 1e-5));
     }
 
@@ -91,12 +91,12 @@ mod tests {
         let (mut normals, mut tree) = (Vec::new(), KnnTree::default());
         // Seen from the centre: normals point inwards (near the pole the 10 neighbours lie on
         // one small circle, whose axis is the normal: 0.1 rad off the radius).
-        let _ = estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut tree, &mut normals);
+        estimate_normals(&points, 10, [0.0, 0.0, 0.0], &mut tree, &mut normals);
         for (p, n) in points.iter().zip(&normals) {
             let radial = p[0] * n[0] + p[1] * n[1] + p[2] * n[2];
             assert!(radial < -0.98, "{p:?} {n:?}");
         }
-        let _ = estimate_normals(&[], 10, [0.0; 3], &mut tree, &mut normals);
+        estimate_normals(&[], 10, [0.0; 3], &mut tree, &mut normals);
         assert!(normals.is_empty());
     }
 }
