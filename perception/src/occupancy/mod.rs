@@ -49,6 +49,11 @@ pub struct OccupancyConfig {
     pub ground_ray_cell: f64,
     /// Blocks farther than this from the vehicle are forgotten (metres).
     pub keep_radius: f64,
+    /// A ray, walked back from its end, stops after this many voxels in a row that other rays
+    /// of the scan have already crossed: they clear what lies ahead, converging on the sensor.
+    /// 0 walks every ray to the sensor (exact; on KITTI scans about 1.7 times slower, with
+    /// about 1 % fewer occupied voxels). Default 4.
+    pub ray_stop_after: u32,
 }
 
 impl Default for OccupancyConfig {
@@ -62,6 +67,7 @@ impl Default for OccupancyConfig {
             max_ray_range: 50.0,
             ground_ray_cell: 1.0,
             keep_radius: 120.0,
+            ray_stop_after: 4,
         }
     }
 }
@@ -349,17 +355,34 @@ impl OccupancyMap {
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
     /// (the end voxel excluded), at most once per scan. Blocks the map does not hold are
     /// jumped over whole.
+    ///
+    /// The ray is walked backwards, from its end towards the sensor, and stops once
+    /// `ray_stop_after` voxels in a row were already touched by this scan (Voxblox's fast
+    /// integrator does the same): the rays that touched them go on to the same sensor, so what
+    /// is left of this one runs alongside them, converging. Voxels near the sensor are crossed
+    /// by thousands of rays; this way they are walked a few times, not thousands.
     fn clear_ray(&mut self, from: &Vector3<f64>, to: &Vector3<f64>, max_range: f64) {
         let (scan, log_miss, log_min) = (self.scan, self.log_miss, self.log_min);
         let delta = to - from;
         let length = delta.norm();
-        let end = if length > max_range {
+        let clipped = length > max_range;
+        let end = if clipped {
             from + delta * (max_range / length)
         } else {
             *to
         };
         let res = self.config.resolution;
-        let mut walk = VoxelWalk::new(from / res, end / res);
+        let mut walk = VoxelWalk::new(end / res, from / res);
+        if !clipped {
+            // The end's voxel is a hit, or the ground the ray ends on.
+            walk.skip_voxel();
+        }
+        let stop_after = match self.config.ray_stop_after {
+            0 => u32::MAX,
+            n => n,
+        };
+        // Voxels in a row this scan had already touched.
+        let mut shared = 0u32;
         while let Some(key) = walk.current() {
             let key = block_key(key);
             let index = &self.index;
@@ -368,12 +391,20 @@ impl OccupancyMap {
                 continue;
             };
             let (voxels, touched) = self.blocks[b as usize].for_scan(scan);
-            walk.through_block(|slot| {
-                if touched.mark(slot) {
+            let unfinished = walk.through_block(|slot| {
+                let fresh = touched.mark(slot);
+                if fresh {
                     let v = &mut voxels[slot];
                     v.log_odds = (v.known_log_odds() + log_miss).max(log_min);
+                    shared = 0;
+                } else {
+                    shared += 1;
                 }
+                shared < stop_after
             });
+            if !unfinished {
+                return;
+            }
         }
     }
 

@@ -66,12 +66,22 @@ impl VoxelWalk {
         (self.remaining > 0).then_some(self.key)
     }
 
+    /// Moves on to the next voxel of the walk.
+    pub fn skip_voxel(&mut self) {
+        if self.remaining > 0 {
+            self.remaining -= 1;
+            self.cross(first_axis(&self.t_next), 1);
+        }
+    }
+
     /// Calls `visit` with the slot (see [`local_index`]) of every voxel of the walk inside the
     /// current block, in order, and stops at the first voxel outside it (or at the end).
+    /// When `visit` returns `false` the walk stops there instead, at the voxel just visited,
+    /// and so does this, returning `false`.
     ///
     /// The walk's state lives in locals here, one variable per axis, so that the loop keeps
     /// it in registers: it is what most of a scan's ray casting runs through.
-    pub fn through_block(&mut self, mut visit: impl FnMut(usize)) {
+    pub fn through_block(&mut self, mut visit: impl FnMut(usize) -> bool) -> bool {
         let side = BLOCK_SIDE as i32;
         let [sx, sy, sz] = self.step;
         let [fx, fy, fz] = self.t_first;
@@ -82,8 +92,12 @@ impl VoxelWalk {
         let (mut lx, mut ly, mut lz) = (kx & (side - 1), ky & (side - 1), kz & (side - 1));
         let mut slot = local_index(self.key) as i32;
         let mut remaining = self.remaining;
+        let mut go_on = true;
         while remaining > 0 {
-            visit(slot as usize);
+            if !visit(slot as usize) {
+                go_on = false;
+                break;
+            }
             remaining -= 1;
             // `first_axis(t_next)`, on the locals: the smallest parameter, ties to the higher
             // axis.
@@ -119,6 +133,7 @@ impl VoxelWalk {
         self.crossed = [cx, cy, cz];
         self.t_next = [tx, ty, tz];
         self.remaining = remaining;
+        go_on
     }
 
     /// Jumps to the first voxel of the walk outside the current block (or ends the walk, when
@@ -200,9 +215,7 @@ mod tests {
         let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
         while let Some(k) = w.current() {
             cells.push(k);
-            let a = first_axis(&w.t_next);
-            w.remaining -= 1;
-            w.cross(a, 1);
+            w.skip_voxel();
         }
         cells
     }
@@ -229,7 +242,10 @@ mod tests {
                 w.leave_block();
                 continue;
             }
-            w.through_block(|slot| cells.push(voxel_of(k, slot)));
+            w.through_block(|slot| {
+                cells.push(voxel_of(k, slot));
+                true
+            });
         }
         cells
     }
