@@ -363,6 +363,18 @@ impl ClassVotes {
         }
     }
 
+    /// Whether a static track once identified as `class` may stay so: views shaped like it
+    /// still outweigh those shaped like another class, and structure does not outweigh them.
+    /// Seen from farther, a parked car's views turn partial (unclear, too low, floating), not
+    /// into another thing.
+    pub fn may_hold(&self, class: ObjectClass) -> bool {
+        let Some(k) = slot(class) else {
+            return false;
+        };
+        let sure: f32 = self.sure.iter().sum();
+        self.sure.iter().all(|&v| v <= self.sure[k]) && self.structure < sure
+    }
+
     /// The object class the votes point to, or `None` (structure, or not identified).
     ///
     /// Structure outweighing everything else is structure, moving or not. A static track is
@@ -605,5 +617,25 @@ mod tests {
             recent.add(ShapeVerdict::Object(ObjectClass::Cyclist), 0.7);
         }
         assert_eq!(recent.identity(true), Some(ObjectClass::Cyclist));
+    }
+
+    #[test]
+    fn an_identified_car_holds_through_unclear_views_not_through_structure() {
+        let mut votes = ClassVotes::default();
+        for _ in 0..5 {
+            votes.add(ShapeVerdict::Object(ObjectClass::Car), 0.9);
+        }
+        let mut unclear = votes;
+        for _ in 0..8 {
+            unclear.add(ShapeVerdict::Unknown, 0.9);
+        }
+        assert_eq!(unclear.identity(false), None);
+        assert!(unclear.may_hold(ObjectClass::Car));
+        assert!(!unclear.may_hold(ObjectClass::Pedestrian));
+        let mut walls = votes;
+        for _ in 0..8 {
+            walls.add(ShapeVerdict::Structure(StructureKind::TooLarge), 0.9);
+        }
+        assert!(!walls.may_hold(ObjectClass::Car));
     }
 }

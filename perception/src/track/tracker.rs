@@ -95,6 +95,11 @@ pub struct Track {
     hits: u32,
     misses: u32,
     votes: ClassVotes,
+    /// The identity the votes last gave, where the track was then and in how many views in all
+    /// they gave it: a static track given it in [`HOLD_MIN_VIEWS`] views keeps it while
+    /// [`ClassVotes::may_hold`] and it stays within [`HOLD_RADIUS`] of that place (the visible
+    /// part of a wall slides along it; a parked car stays put).
+    held: Option<(ObjectClass, Vector2<f64>, u32)>,
     /// The highest top above the ground (m) of a view shaped like a car lately, sinking by
     /// [`TOP_SINK`] a scan; 0 when none was.
     car_top: f64,
@@ -146,7 +151,26 @@ impl Track {
 
     /// What the track is: an object class, or `None` for structure / not identified.
     pub fn identity(&self) -> Option<ObjectClass> {
-        self.votes.identity(self.moving)
+        let fresh = self.votes.identity(self.moving);
+        if fresh.is_some() || self.moving {
+            return fresh;
+        }
+        let (class, at, views) = self.held?;
+        let near = (self.motion.position().xy() - at).norm() <= HOLD_RADIUS;
+        (views >= HOLD_MIN_VIEWS && near && self.votes.may_hold(class)).then_some(class)
+    }
+
+    /// Updates [`Self::held`] after a view.
+    fn settle_identity(&mut self) {
+        if let Some(class) = self.votes.identity(self.moving) {
+            let views = match self.held {
+                Some((held, _, views)) if held == class => views + 1,
+                _ => 1,
+            };
+            self.held = Some((class, self.motion.position().xy(), views));
+        } else if self.identity().is_none() {
+            self.held = None;
+        }
     }
 
     /// The track's box and motion in the world frame.
@@ -388,6 +412,7 @@ impl Tracker {
         if !o.clipped {
             judge_motion(t, cluster.points, may_have_arrived, scan, config);
         }
+        t.settle_identity();
         trace_view("update", t, o);
     }
 
@@ -446,6 +471,7 @@ impl Tracker {
             hits: 1,
             misses: 0,
             votes,
+            held: None,
             car_top: car_top(o),
             person_width: person_width(o),
             moving: false,
@@ -456,11 +482,19 @@ impl Tracker {
         });
         if let Some(t) = self.tracks.last_mut() {
             judge_motion(t, cluster.points, false, scan, config);
+            t.settle_identity();
             trace_view("birth", t, o);
         }
         self.next_id += 1;
     }
 }
+
+/// How far (m) a static track may drift from where its views last identified it and keep
+/// that identity.
+const HOLD_RADIUS: f64 = 1.0;
+
+/// Views a static track's votes must have identified it in before it holds the identity.
+const HOLD_MIN_VIEWS: u32 = 3;
 
 /// How fast (m per scan) the remembered top of a track sinks towards what is seen now.
 const TOP_SINK: f64 = 0.02;
