@@ -1,7 +1,8 @@
 //! A parked car seen from farther and farther shows less of itself: after a few clear views
 //! only a corner that could be anything. The tracker keeps calling it a car while it stays
 //! put; a car-shaped start whose unclear views slide along (the visible part of a hedge as
-//! the vehicle passes) loses the identity.
+//! the vehicle passes) loses the identity. And a car is reported from its first view, but
+//! coasts through missed scans only once seen twice.
 
 mod track_support;
 
@@ -61,12 +62,17 @@ fn corner(shift: f64) -> Vec<Point> {
 /// Runs 8 scans of the car at 10 Hz, then 16 of `later(k)` (k from 0); returns, per scan,
 /// whether a track is reported.
 fn reported(later: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
+    reported_after(8, later)
+}
+
+/// Runs `first` scans of the car, then `24 - first` of `later(k)`.
+fn reported_after(first: u32, later: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let ground = Ground::horizontal(0.0);
     let cdf = FLAT.cdf();
     (0..24)
         .map(|k| {
-            let clouds = vec![if k < 8 { car() } else { later(k - 8) }];
+            let clouds = vec![if k < first { car() } else { later(k - first) }];
             let scan = ScanContext {
                 timestamp: f64::from(k) * 0.1,
                 pose: Isometry3::translation(0.0, 0.0, 1.73),
@@ -92,4 +98,15 @@ fn a_car_shaped_start_sliding_away_in_unclear_views_is_dropped() {
     let out = reported(|k| corner(0.5 * f64::from(k + 1)));
     assert!(out[2..8].iter().all(|&r| r), "the car itself: {out:?}");
     assert!(out[14..].iter().all(|&r| !r), "{out:?}");
+}
+
+#[test]
+fn a_car_seen_in_one_scan_is_reported_in_that_scan_only() {
+    // Identified in its first view, but one view may be a fragment: no coasting on it.
+    let out = reported_after(1, |_| Vec::new());
+    assert!(out[0], "{out:?}");
+    assert!(out[1..].iter().all(|&r| !r), "{out:?}");
+    // Seen twice, it coasts through two missed scans.
+    let out = reported_after(2, |_| Vec::new());
+    assert_eq!(&out[..5], [true, true, true, true, false], "{out:?}");
 }

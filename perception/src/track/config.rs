@@ -140,7 +140,9 @@ pub struct TrackConfig {
     pub confidence: ConfidenceConfig,
     /// Identification of objects and structure.
     pub classify: ClassifyConfig,
-    /// Matches needed before a track is reported (M of "birth after M hits"). Default 2.
+    /// Matches needed before a track is reported (M of "birth after M hits"). Default 1: an
+    /// object identified in its first view is reported in it (every scan counts); it coasts
+    /// through misses only once matched twice.
     pub birth_hits: u32,
     /// A confirmed track missed for at most this many scans is still reported at its
     /// predicted position (coasting through short occlusions). Default 2.
@@ -161,7 +163,7 @@ impl Default for TrackConfig {
             motion: MotionConfig::default(),
             confidence: ConfidenceConfig::default(),
             classify: ClassifyConfig::default(),
-            birth_hits: 2,
+            birth_hits: 1,
             report_coasting_scans: 2,
             split_merged_clusters: true,
             size_shrink_rate: 0.1,

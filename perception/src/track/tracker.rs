@@ -234,15 +234,26 @@ impl Tracker {
 
     /// Whether `track` is reported (see [`Tracker::reported`]).
     pub fn is_reported(&self, track: &Track) -> bool {
+        let coasting = if track.hits >= CONFIRMED_HITS {
+            self.config.report_coasting_scans
+        } else {
+            0
+        };
         track.hits >= self.config.birth_hits
-            && track.misses <= self.config.report_coasting_scans
+            && track.misses <= coasting
             && track.identity().is_some()
     }
 
-    /// The tracks to report: confirmed (`birth_hits` matches), identified as objects, and
-    /// matched in one of the last `report_coasting_scans + 1` scans.
+    /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
+    /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
+    /// [`CONFIRMED_HITS`] times.
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
+    }
+
+    /// Matches that make a track confirmed: it coasts through misses and guides splits.
+    fn confirmed_hits(&self) -> u32 {
+        self.config.birth_hits.max(CONFIRMED_HITS)
     }
 
     /// The boxes the confirmed tracks are predicted to occupy at `timestamp`.
@@ -250,7 +261,7 @@ impl Tracker {
         let dt = self.time.map_or(0.0, |t| (timestamp - t).max(0.0));
         self.tracks
             .iter()
-            .filter(|t| t.hits >= self.config.birth_hits && t.identity().is_some())
+            .filter(|t| t.hits >= self.confirmed_hits() && t.identity().is_some())
             .map(move |t| PredictedBox {
                 id: t.id,
                 center: t.motion.position().xy() + t.motion.velocity() * dt,
@@ -488,6 +499,10 @@ impl Tracker {
         self.next_id += 1;
     }
 }
+
+/// Matches before a track coasts through misses and guides the splitting of clusters: a
+/// track seen once may be a fragment, reported only in the scan that showed it.
+const CONFIRMED_HITS: u32 = 2;
 
 /// How far (m) a static track may drift from where its views last identified it and keep
 /// that identity.
