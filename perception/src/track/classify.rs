@@ -268,7 +268,12 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     if f.length < c.pole_max_footprint && f.top > c.pole_min_height {
         return Structure(Pole);
     }
-    if f.top > c.tree_min_height && f.upper_width > c.tree_spread_ratio * f.lower_width.max(0.2) {
+    // Legs under a torso are top-heavy too: a top-heavy view no wider and no taller than a
+    // person may be one walking (a small tree if it never moves).
+    let top_heavy =
+        f.top > c.tree_min_height && f.upper_width > c.tree_spread_ratio * f.lower_width.max(0.2);
+    let person_sized = f.upper_width <= c.person_max_upper_width && f.top <= c.person_max_height;
+    if top_heavy && !person_sized {
         return Structure(Tree);
     }
     if f.oblique_face {
@@ -289,6 +294,7 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         };
         // A top cut by the field of view may belong to a trunk or a post.
         let sure = !f.truncated
+            && !top_heavy
             && f.length >= c.static_person_min_width
             && f.upper_width >= c.static_person_min_width
             && f.surface_variation <= c.person_max_surface_variation;
@@ -423,6 +429,28 @@ mod tests {
             truncated: false,
             oblique_face: false,
             surface_variation: 0.0,
+        }
+    }
+
+    #[test]
+    fn legs_under_a_torso_are_a_person_if_moving_a_crown_is_a_tree() {
+        let c = ClassifyConfig::default();
+        // 0.55 m shoulders over 0.13 m of legs, 1.75 m tall: top-heavy, person-sized.
+        let walker = features(0.55, 0.3, 1.75, 0.55, 0.13);
+        assert_eq!(
+            classify_shape(&walker, &c),
+            ShapeVerdict::Movable(ObjectClass::Pedestrian)
+        );
+        // A young tree as tall as a person but with a crown wider than shoulders, and a
+        // narrow crown above a person's height.
+        for tree in [
+            features(1.5, 1.2, 2.0, 1.5, 0.2),
+            features(0.8, 0.6, 2.6, 0.8, 0.15),
+        ] {
+            assert_eq!(
+                classify_shape(&tree, &c),
+                ShapeVerdict::Structure(StructureKind::Tree)
+            );
         }
     }
 
