@@ -28,6 +28,35 @@ const MAX_HALF_COLUMNS: i64 = 20;
 /// row), so every point lands in the cell the library's functions give.
 const EXACT_MARGIN: f64 = 0.01;
 
+/// Points [`RangeImage::build`] places at once.
+const CHUNK: usize = 64;
+
+/// A batch of points on their way into the image (coordinates axis by axis), with their fast
+/// angles (in cell units) and ranges.
+struct Chunk {
+    x: [f32; CHUNK],
+    y: [f32; CHUNK],
+    z: [f32; CHUNK],
+    range: [f32; CHUNK],
+    column: [f32; CHUNK],
+    row: [f32; CHUNK],
+    len: usize,
+}
+
+impl Default for Chunk {
+    fn default() -> Self {
+        Self {
+            x: [0.0; CHUNK],
+            y: [0.0; CHUNK],
+            z: [0.0; CHUNK],
+            range: [0.0; CHUNK],
+            column: [0.0; CHUNK],
+            row: [0.0; CHUNK],
+            len: 0,
+        }
+    }
+}
+
 /// What the scan shows of a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Visibility {
@@ -58,13 +87,62 @@ impl RangeImage {
         self.rows = ((ELEVATION_MAX_DEG - ELEVATION_MIN_DEG) / ELEVATION_STEP_DEG).round() as usize;
         self.ranges.clear();
         self.ranges.resize(self.columns * self.rows, f32::INFINITY);
+        let mut chunk = Chunk::default();
         for p in points {
-            let v = Vector3::new(p.x as f64, p.y as f64, p.z as f64);
-            if let Some((cell, range)) = self.cell_of(&v) {
-                let r = &mut self.ranges[cell];
-                *r = r.min(range as f32);
+            let k = chunk.len;
+            (chunk.x[k], chunk.y[k], chunk.z[k]) = (p.x, p.y, p.z);
+            chunk.len += 1;
+            if chunk.len == CHUNK {
+                self.add_chunk(&mut chunk);
             }
         }
+        self.add_chunk(&mut chunk);
+    }
+
+    /// Adds the points of `chunk` and empties it: [`Self::cell_of`]'s fast angles for all of
+    /// them first, in one loop over arrays (SIMD), then each point into its cell.
+    fn add_chunk(&mut self, chunk: &mut Chunk) {
+        let columns_per_rad = (self.columns as f64 / std::f64::consts::TAU) as f32;
+        let rows_per_rad = (1.0f64.to_degrees() / ELEVATION_STEP_DEG) as f32;
+        let row_offset = (ELEVATION_MIN_DEG / ELEVATION_STEP_DEG) as f32;
+        let columns = self.columns as f32;
+        for k in 0..CHUNK {
+            let (x, y, z) = (chunk.x[k], chunk.y[k], chunk.z[k]);
+            let horizontal = (x * x + y * y).sqrt();
+            chunk.range[k] = (horizontal * horizontal + z * z).sqrt();
+            let column = fast_atan2(y, x) * columns_per_rad;
+            chunk.column[k] = if column < 0.0 {
+                column + columns
+            } else {
+                column
+            };
+            chunk.row[k] = fast_atan2(z, horizontal) * rows_per_rad - row_offset;
+        }
+        let rows = self.rows as f32;
+        let margin = EXACT_MARGIN as f32;
+        for k in 0..chunk.len {
+            let (range, column, row) = (chunk.range[k], chunk.column[k], chunk.row[k]);
+            if !range.is_finite() || range < 1e-3 || !(-margin..rows + margin).contains(&row) {
+                continue;
+            }
+            let near_boundary = |u: f32| {
+                let fraction = u - u.trunc();
+                !(margin..=1.0 - margin).contains(&fraction)
+            };
+            let placed = if near_boundary(column) || near_boundary(row) {
+                let p = Vector3::new(chunk.x[k], chunk.y[k], chunk.z[k]).map(f64::from);
+                self.exact_cell_of(&p, p.norm())
+                    .map(|(cell, range)| (cell, range as f32))
+            } else {
+                let (column, row) = ((column as usize).min(self.columns - 1), row as usize);
+                Some((row * self.columns + column, range))
+            };
+            if let Some((cell, range)) = placed {
+                let r = &mut self.ranges[cell];
+                *r = r.min(range);
+            }
+        }
+        chunk.len = 0;
     }
 
     /// The cell and range of a sensor-frame point: [`Self::exact_cell_of`]'s answer, from fast
@@ -188,6 +266,52 @@ mod tests {
             placed += usize::from(expected.is_some());
         }
         assert!(placed > 10_000, "{placed}");
+    }
+
+    #[test]
+    fn build_puts_every_point_in_the_library_functions_cell() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = |range: f32| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * range
+        };
+        let points: Vec<Point> = (0..50_000)
+            .map(|i| {
+                if i % 3 == 0 {
+                    // On cell boundaries.
+                    let azimuth = (uniform(720.0).round() * 0.25).to_radians();
+                    let elevation = (uniform(40.0).round() * 0.5).to_radians();
+                    let r = 1.0 + uniform(40.0).abs();
+                    let (x, y, z) = (
+                        r * elevation.cos() * azimuth.cos(),
+                        r * elevation.cos() * azimuth.sin(),
+                        r * elevation.sin(),
+                    );
+                    Point::new(x, y, z, 0.0)
+                } else {
+                    Point::new(uniform(60.0), uniform(60.0), uniform(8.0), 0.0)
+                }
+            })
+            .collect();
+        let mut image = RangeImage::default();
+        image.build(&points);
+        let mut expected = vec![f32::INFINITY; image.ranges.len()];
+        for p in &points {
+            let v = Vector3::new(p.x, p.y, p.z).map(f64::from);
+            if let Some((cell, range)) = image.exact_cell_of(&v, v.norm()) {
+                expected[cell] = expected[cell].min(range as f32);
+            }
+        }
+        let placed = expected.iter().filter(|r| r.is_finite()).count();
+        assert!(placed > 10_000, "{placed}");
+        for (cell, (got, want)) in image.ranges.iter().zip(&expected).enumerate() {
+            assert!(
+                got == want || (got - want).abs() <= 1e-5 * want,
+                "cell {cell}: {got} vs {want}"
+            );
+        }
     }
 
     /// A vertical wall of points at x = `x`, y in [-5, 5], z in [-1.5, 1].
