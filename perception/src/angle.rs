@@ -2,24 +2,50 @@
 //! cells): libm's `atan2` costs more than the rest of their work per point together.
 
 /// `y.atan2(x)` to within 1e-5 rad: an odd polynomial of the arctangent on [0, 1] and the
-/// octant symmetries; 0 for (0, 0). Branch-free (selects only), so that a loop over arrays of
-/// points runs it on whole SIMD registers.
-#[inline]
+/// octant symmetries; 0 for (0, 0). Branches: the cheapest form for one point after another
+/// in scan order, where they are predictable.
 pub(crate) fn fast_atan2(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
     let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 && ay == 0.0 {
+        return 0.0;
+    }
+    let (t, swapped) = if ay > ax {
+        (ax / ay, true)
+    } else {
+        (ay / ax, false)
+    };
+    let mut a = atan_unit(t);
+    if swapped {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
+/// [`fast_atan2`]'s values without branches (selects only): a loop over arrays of points runs
+/// it on whole SIMD registers.
+#[inline]
+pub(crate) fn fast_atan2_branchless(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
     let (low, high) = (ax.min(ay), ax.max(ay));
-    let t = if high > 0.0 { low / high } else { 0.0 };
-    let t2 = t * t;
-    // A least-squares odd polynomial for atan on [0, 1] (error below 7e-6 rad).
-    let mut a = t
-        * (0.999_968
-            + t2 * (-0.332_549_57
-                + t2 * (0.193_520_28
-                    + t2 * (-0.117_020_03 + t2 * (0.053_742_84 - t2 * 0.012_269_506)))));
+    let mut a = atan_unit(if high > 0.0 { low / high } else { 0.0 });
     a = if ay > ax { FRAC_PI_2 - a } else { a };
     a = if x < 0.0 { PI - a } else { a };
     if y < 0.0 { -a } else { a }
+}
+
+/// `atan(t)` for `t` in [0, 1]: a least-squares odd polynomial (error below 7e-6 rad).
+#[inline]
+fn atan_unit(t: f32) -> f32 {
+    let t2 = t * t;
+    t * (0.999_968
+        + t2 * (-0.332_549_57
+            + t2 * (0.193_520_28
+                + t2 * (-0.117_020_03 + t2 * (0.053_742_84 - t2 * 0.012_269_506)))))
 }
 
 #[cfg(test)]
@@ -33,8 +59,10 @@ mod tests {
             for r in [0.1f32, 7.0, 80.0] {
                 let (y, x) = (r * a.sin(), r * a.cos());
                 assert!((fast_atan2(y, x) - y.atan2(x)).abs() < 2e-5, "{x} {y}");
+                assert_eq!(fast_atan2_branchless(y, x), fast_atan2(y, x), "{x} {y}");
             }
         }
         assert_eq!(fast_atan2(0.0, 0.0), 0.0);
+        assert_eq!(fast_atan2_branchless(0.0, 0.0), 0.0);
     }
 }

@@ -9,7 +9,7 @@
 use nalgebra::Vector3;
 
 use crate::Point;
-use crate::angle::fast_atan2;
+use crate::angle::{fast_atan2, fast_atan2_branchless};
 
 /// Azimuth resolution of the image (degrees).
 const AZIMUTH_STEP_DEG: f64 = 0.25;
@@ -110,13 +110,13 @@ impl RangeImage {
             let (x, y, z) = (chunk.x[k], chunk.y[k], chunk.z[k]);
             let horizontal = (x * x + y * y).sqrt();
             chunk.range[k] = (horizontal * horizontal + z * z).sqrt();
-            let column = fast_atan2(y, x) * columns_per_rad;
+            let column = fast_atan2_branchless(y, x) * columns_per_rad;
             chunk.column[k] = if column < 0.0 {
                 column + columns
             } else {
                 column
             };
-            chunk.row[k] = fast_atan2(z, horizontal) * rows_per_rad - row_offset;
+            chunk.row[k] = fast_atan2_branchless(z, horizontal) * rows_per_rad - row_offset;
         }
         let rows = self.rows as f32;
         let margin = EXACT_MARGIN as f32;
