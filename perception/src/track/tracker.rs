@@ -149,7 +149,9 @@ impl Track {
         self.misses
     }
 
-    /// What the track is: an object class, or `None` for structure / not identified.
+    /// What the track is: an object class, or `None` for structure / not identified. The
+    /// class its votes give now, or, for a static track they no longer identify, the one it
+    /// holds (a parked car seen from farther: see the `held` field).
     pub fn identity(&self) -> Option<ObjectClass> {
         let fresh = self.votes.identity(self.moving);
         if fresh.is_some() || self.moving {
