@@ -511,7 +511,7 @@ const CONFIRMED_HITS: u32 = 2;
 const HOLD_RADIUS: f64 = 1.0;
 
 /// Views a static track's votes must have identified it in before it holds the identity.
-const HOLD_MIN_VIEWS: u32 = 3;
+const HOLD_MIN_VIEWS: u32 = 5;
 
 /// How fast (m per scan) the remembered top of a track sinks towards what is seen now.
 const TOP_SINK: f64 = 0.02;
