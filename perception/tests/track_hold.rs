@@ -6,10 +6,8 @@
 
 mod track_support;
 
-use nalgebra::Isometry3;
-use track_support::{FLAT, flat_clusters};
+use track_support::reported_per_scan;
 use trackd_perception::Point;
-use trackd_perception::track::{Ground, ScanContext, TrackConfig, Tracker};
 
 /// The rear (x = 33 m) and the near side (y = 4.1 m) of a 4.5 x 1.8 m car, 0.2 m to 1.5 m
 /// above the ground (world frame, ground at z = 0), every 0.1 m.
@@ -67,23 +65,7 @@ fn reported(later: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
 
 /// Runs `first` scans of the car, then `24 - first` of `later(k)`.
 fn reported_after(first: u32, later: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
-    let mut tracker = Tracker::new(TrackConfig::default());
-    let ground = Ground::horizontal(0.0);
-    let cdf = FLAT.cdf();
-    (0..24)
-        .map(|k| {
-            let clouds = vec![if k < first { car() } else { later(k - first) }];
-            let scan = ScanContext {
-                timestamp: f64::from(k) * 0.1,
-                pose: Isometry3::translation(0.0, 0.0, 1.73),
-                ground: &ground,
-                range_limit: f64::INFINITY,
-                views: None,
-            };
-            tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-            tracker.reported().next().is_some()
-        })
-        .collect()
+    reported_per_scan(24, |k| if k < first { car() } else { later(k - first) })
 }
 
 #[test]

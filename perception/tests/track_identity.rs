@@ -5,10 +5,8 @@
 
 mod track_support;
 
-use nalgebra::Isometry3;
-use track_support::{FLAT, flat_clusters};
+use track_support::reported_per_scan;
 use trackd_perception::Point;
-use trackd_perception::track::{Ground, ScanContext, TrackConfig, Tracker};
 
 /// A figure 30 m ahead, facing the sensor: a 0.3 m wide lower body up to 1.1 m and, from
 /// 1.2 m to 1.7 m, an upper body seen in two columns `upper_width` apart (world frame, ground
@@ -32,23 +30,7 @@ fn figure(upper_width: f64) -> Vec<Point> {
 /// Runs 30 scans at 10 Hz of one static figure whose upper width in scan k is
 /// `upper_width(k)`; returns, per scan, whether a track is reported.
 fn reported(upper_width: impl Fn(u32) -> f64) -> Vec<bool> {
-    let mut tracker = Tracker::new(TrackConfig::default());
-    let ground = Ground::horizontal(0.0);
-    let cdf = FLAT.cdf();
-    (0..30)
-        .map(|k| {
-            let clouds = vec![figure(upper_width(k))];
-            let scan = ScanContext {
-                timestamp: f64::from(k) * 0.1,
-                pose: Isometry3::translation(0.0, 0.0, 1.73),
-                ground: &ground,
-                range_limit: f64::INFINITY,
-                views: None,
-            };
-            tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-            tracker.reported().next().is_some()
-        })
-        .collect()
+    reported_per_scan(30, |k| figure(upper_width(k)))
 }
 
 #[test]

@@ -9,7 +9,7 @@
 use nalgebra::Vector3;
 
 use crate::Point;
-use crate::angle::{fast_atan2, fast_atan2_branchless};
+use crate::angle::fast_atan2_branchless;
 
 /// Azimuth resolution of the image (degrees).
 const AZIMUTH_STEP_DEG: f64 = 0.25;
@@ -22,7 +22,7 @@ const HIT_TOLERANCE: f64 = 0.4;
 /// The widest window [`RangeImage::visibility_across`] looks at: this many columns to either
 /// side (5 degrees).
 const MAX_HALF_COLUMNS: i64 = 20;
-/// A direction whose fast angles ([`fast_atan2`], in `f32`) lie within this fraction of a cell
+/// A direction whose fast angles ([`fast_atan2_branchless`], in `f32`) lie within this fraction of a cell
 /// of a cell boundary is placed by the library's `atan2` and `asin` instead: the fast angles'
 /// error (below 1e-5 rad) is under a quarter of it (4.4e-5 rad for a column, 8.7e-5 rad for a
 /// row), so every point lands in the cell the library's functions give.
@@ -55,6 +55,16 @@ impl Default for Chunk {
             len: 0,
         }
     }
+}
+
+/// Where the fast angles put a direction.
+enum FastCell {
+    /// In this cell.
+    Cell(usize),
+    /// Outside the image's elevation band.
+    Outside,
+    /// Too near a cell boundary to tell: the library's functions decide.
+    Exact,
 }
 
 /// What the scan shows of a point.
@@ -99,43 +109,28 @@ impl RangeImage {
         self.add_chunk(&mut chunk);
     }
 
-    /// Adds the points of `chunk` and empties it: [`Self::cell_of`]'s fast angles for all of
-    /// them first, in one loop over arrays (SIMD), then each point into its cell.
+    /// Adds the points of `chunk` and empties it: the fast angles of all of them first, in one
+    /// loop over arrays (SIMD), then each point into its cell.
     fn add_chunk(&mut self, chunk: &mut Chunk) {
-        let columns_per_rad = (self.columns as f64 / std::f64::consts::TAU) as f32;
-        let rows_per_rad = (1.0f64.to_degrees() / ELEVATION_STEP_DEG) as f32;
-        let row_offset = (ELEVATION_MIN_DEG / ELEVATION_STEP_DEG) as f32;
-        let columns = self.columns as f32;
         for k in 0..CHUNK {
             let (x, y, z) = (chunk.x[k], chunk.y[k], chunk.z[k]);
             let horizontal = (x * x + y * y).sqrt();
             chunk.range[k] = (horizontal * horizontal + z * z).sqrt();
-            let column = fast_atan2_branchless(y, x) * columns_per_rad;
-            chunk.column[k] = if column < 0.0 {
-                column + columns
-            } else {
-                column
-            };
-            chunk.row[k] = fast_atan2_branchless(z, horizontal) * rows_per_rad - row_offset;
+            (chunk.column[k], chunk.row[k]) = self.fast_angles(x, y, z, horizontal);
         }
-        let rows = self.rows as f32;
-        let margin = EXACT_MARGIN as f32;
         for k in 0..chunk.len {
-            let (range, column, row) = (chunk.range[k], chunk.column[k], chunk.row[k]);
-            if !range.is_finite() || range < 1e-3 || !(-margin..rows + margin).contains(&row) {
+            let range = chunk.range[k];
+            if !range.is_finite() || range < 1e-3 {
                 continue;
             }
-            let near_boundary = |u: f32| {
-                let fraction = u - u.trunc();
-                !(margin..=1.0 - margin).contains(&fraction)
-            };
-            let placed = if near_boundary(column) || near_boundary(row) {
-                let p = Vector3::new(chunk.x[k], chunk.y[k], chunk.z[k]).map(f64::from);
-                self.exact_cell_of(&p, p.norm())
-                    .map(|(cell, range)| (cell, range as f32))
-            } else {
-                let (column, row) = ((column as usize).min(self.columns - 1), row as usize);
-                Some((row * self.columns + column, range))
+            let placed = match self.fast_cell(chunk.column[k], chunk.row[k]) {
+                FastCell::Cell(cell) => Some((cell, range)),
+                FastCell::Outside => None,
+                FastCell::Exact => {
+                    let p = Vector3::new(chunk.x[k], chunk.y[k], chunk.z[k]).map(f64::from);
+                    self.exact_cell_of(&p, p.norm())
+                        .map(|(cell, range)| (cell, range as f32))
+                }
             };
             if let Some((cell, range)) = placed {
                 let r = &mut self.ranges[cell];
@@ -152,31 +147,46 @@ impl RangeImage {
         if !range.is_finite() || range < 1e-3 || self.ranges.is_empty() {
             return None;
         }
-        // Cells from the fast angles, in cell units: columns from +x counter-clockwise, rows
-        // from the band's lower edge.
-        let columns_per_rad = self.columns as f64 / std::f64::consts::TAU;
-        let rows_per_rad = 1.0f64.to_degrees() / ELEVATION_STEP_DEG;
-        let angle = |y: f64, x: f64| f64::from(fast_atan2(y as f32, x as f32));
-        let mut column = angle(p.y, p.x) * columns_per_rad;
-        if column < 0.0 {
-            column += self.columns as f64;
+        let (x, y, z) = (p.x as f32, p.y as f32, p.z as f32);
+        let (column, row) = self.fast_angles(x, y, z, (x * x + y * y).sqrt());
+        match self.fast_cell(column, row) {
+            FastCell::Cell(cell) => Some((cell, range)),
+            FastCell::Outside => None,
+            FastCell::Exact => self.exact_cell_of(p, range),
         }
-        let horizontal = (p.x * p.x + p.y * p.y).sqrt();
-        let row = angle(p.z, horizontal) * rows_per_rad - ELEVATION_MIN_DEG / ELEVATION_STEP_DEG;
-        let rows = self.rows as f64;
-        if !(-EXACT_MARGIN..rows + EXACT_MARGIN).contains(&row) {
-            return None;
-        }
-        // Both are ≥ -EXACT_MARGIN here: truncation is the floor, or 0 just below 0.
-        let near_boundary = |u: f64| {
-            let fraction = u - (u as u64) as f64;
-            !(EXACT_MARGIN..=1.0 - EXACT_MARGIN).contains(&fraction)
+    }
+
+    /// The direction of sensor-frame point (x, y, z), `horizontal` from the sensor, in cell
+    /// units from the fast angles: the column counter-clockwise from +x, the row from the
+    /// band's lower edge. Branch-free, so that a loop over points runs it on SIMD registers.
+    #[inline]
+    fn fast_angles(&self, x: f32, y: f32, z: f32, horizontal: f32) -> (f32, f32) {
+        let columns_per_rad = (self.columns as f64 / std::f64::consts::TAU) as f32;
+        let rows_per_rad = (1.0f64.to_degrees() / ELEVATION_STEP_DEG) as f32;
+        let row_offset = (ELEVATION_MIN_DEG / ELEVATION_STEP_DEG) as f32;
+        let column = fast_atan2_branchless(y, x) * columns_per_rad;
+        let column = if column < 0.0 {
+            column + self.columns as f32
+        } else {
+            column
         };
+        let row = fast_atan2_branchless(z, horizontal) * rows_per_rad - row_offset;
+        (column, row)
+    }
+
+    /// Where [`Self::fast_angles`]' `column` and `row` put a direction.
+    fn fast_cell(&self, column: f32, row: f32) -> FastCell {
+        let margin = EXACT_MARGIN as f32;
+        if !(-margin..self.rows as f32 + margin).contains(&row) {
+            return FastCell::Outside;
+        }
+        // Both are ≥ -EXACT_MARGIN here.
+        let near_boundary = |u: f32| !(margin..=1.0 - margin).contains(&(u - u.trunc()));
         if near_boundary(column) || near_boundary(row) {
-            return self.exact_cell_of(p, range);
+            return FastCell::Exact;
         }
         let (column, row) = ((column as usize).min(self.columns - 1), row as usize);
-        Some((row * self.columns + column, range))
+        FastCell::Cell(row * self.columns + column)
     }
 
     /// The cell of a sensor-frame point at `range` (its norm, ≥ 1 mm) from the library's
@@ -236,10 +246,9 @@ impl RangeImage {
 mod tests {
     use super::*;
 
-    #[test]
-    fn cells_are_the_library_functions_cells() {
-        let mut image = RangeImage::default();
-        image.build(&wall(10.0));
+    /// `count` sensor-frame points within 60 m (8 m in height), every fourth exactly on a
+    /// cell boundary, where the fast angles hand over to the library's.
+    fn sample_points(count: usize) -> Vec<Vector3<f64>> {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut uniform = |range: f64| {
             state ^= state << 13;
@@ -247,20 +256,30 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 * range - range
         };
-        let mut placed = 0;
-        for i in 0..200_000 {
-            let mut p = Vector3::new(uniform(60.0), uniform(60.0), uniform(8.0));
-            if i % 4 == 0 {
-                // On cell boundaries, where the fast angles hand over to the library's.
+        (0..count)
+            .map(|i| {
+                let p = Vector3::new(uniform(60.0), uniform(60.0), uniform(8.0));
+                if i % 4 != 0 {
+                    return p;
+                }
                 let azimuth = (uniform(720.0).round() * 0.25).to_radians();
                 let elevation = (uniform(40.0).round() * 0.5).to_radians();
                 let r = 1.0 + uniform(40.0).abs();
-                p = Vector3::new(
+                Vector3::new(
                     r * elevation.cos() * azimuth.cos(),
                     r * elevation.cos() * azimuth.sin(),
                     r * elevation.sin(),
-                );
-            }
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn cells_are_the_library_functions_cells() {
+        let mut image = RangeImage::default();
+        image.build(&wall(10.0));
+        let mut placed = 0;
+        for p in sample_points(200_000) {
             let expected = image.exact_cell_of(&p, p.norm());
             assert_eq!(image.cell_of(&p), expected, "{p:?}");
             placed += usize::from(expected.is_some());
@@ -270,30 +289,9 @@ mod tests {
 
     #[test]
     fn build_puts_every_point_in_the_library_functions_cell() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = |range: f32| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            ((state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * range
-        };
-        let points: Vec<Point> = (0..50_000)
-            .map(|i| {
-                if i % 3 == 0 {
-                    // On cell boundaries.
-                    let azimuth = (uniform(720.0).round() * 0.25).to_radians();
-                    let elevation = (uniform(40.0).round() * 0.5).to_radians();
-                    let r = 1.0 + uniform(40.0).abs();
-                    let (x, y, z) = (
-                        r * elevation.cos() * azimuth.cos(),
-                        r * elevation.cos() * azimuth.sin(),
-                        r * elevation.sin(),
-                    );
-                    Point::new(x, y, z, 0.0)
-                } else {
-                    Point::new(uniform(60.0), uniform(60.0), uniform(8.0), 0.0)
-                }
-            })
+        let points: Vec<Point> = sample_points(50_000)
+            .iter()
+            .map(|p| Point::new(p.x as f32, p.y as f32, p.z as f32, 0.0))
             .collect();
         let mut image = RangeImage::default();
         image.build(&points);

@@ -1,8 +1,9 @@
 //! What the tracker's synthetic tests share: clusters that all carry one uniform signature,
 //! so that the tests exercise geometry and motion, not the VFH tests.
 
+use nalgebra::Isometry3;
 use trackd_perception::Point;
-use trackd_perception::track::ClusterInput;
+use trackd_perception::track::{ClusterInput, Ground, ScanContext, TrackConfig, Tracker};
 use trackd_perception::vfh::{BINS, Vfh};
 
 /// A uniform signature.
@@ -20,6 +21,30 @@ pub fn flat_clusters<'a>(clouds: &'a [Vec<Point>], cdf: &'a [f32; BINS]) -> Vec<
             vfh: &FLAT,
             cdf,
             surface_variation: 0.0,
+        })
+        .collect()
+}
+
+/// Runs `scans` scans at 10 Hz with the default config, scan `k` showing the one world-frame
+/// cluster `cloud(k)` to a sensor 1.73 m above the origin (ground at z = 0, no range images);
+/// returns, per scan, whether a track is reported.
+#[allow(dead_code)] // Not every test that includes this module runs static scenes.
+pub fn reported_per_scan(scans: u32, cloud: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
+    let mut tracker = Tracker::new(TrackConfig::default());
+    let ground = Ground::horizontal(0.0);
+    let cdf = FLAT.cdf();
+    (0..scans)
+        .map(|k| {
+            let clouds = vec![cloud(k)];
+            let scan = ScanContext {
+                timestamp: f64::from(k) * 0.1,
+                pose: Isometry3::translation(0.0, 0.0, 1.73),
+                ground: &ground,
+                range_limit: f64::INFINITY,
+                views: None,
+            };
+            tracker.step(&scan, &flat_clusters(&clouds, &cdf));
+            tracker.reported().next().is_some()
         })
         .collect()
 }
