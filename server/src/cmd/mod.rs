@@ -13,6 +13,7 @@ pub mod occupancy_thread;
 pub mod plot;
 pub mod router;
 pub mod run;
+pub mod segment_thread;
 pub mod serve;
 pub mod sim;
 pub mod vfh;

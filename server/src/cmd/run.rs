@@ -1,13 +1,13 @@
 //! `trackd run INPUT --out DIR`: tracks objects through a recorded drive offline and writes
 //! `tracks.csv` (Velodyne frame of each scan), KITTI tracking results (camera frame, when the
 //! drive is calibrated), the super frames, the occupancy map, the ego poses and per-stage
-//! timings. The occupancy map is updated on a thread of its own, overlapping the next scans.
+//! timings. Three threads overlap: one reads and segments the scans ahead, the main one tracks
+//! them, and one updates the occupancy map.
 
 use std::collections::BTreeSet;
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -27,12 +27,10 @@ use trackd_service::settings::Settings;
 
 use crate::cmd::clusters_csv::ClustersCsv;
 use crate::cmd::occupancy_thread::OccupancyThread;
+use crate::cmd::segment_thread::{SegmentThread, SegmentedScan, scan_name};
 
 /// Header of `tracks.csv` (eval-protocol.md).
 pub const TRACKS_HEADER: &str = "frame,track_id,x,y,z,l,w,h,yaw,vx,vy,confidence,class";
-
-/// Scans read ahead of the pipeline by the reader thread.
-const READ_AHEAD: usize = 4;
 
 /// Flags of `trackd run`.
 #[derive(clap::Args)]
@@ -104,21 +102,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .imu_to_velo()
             .unwrap_or_else(|| settings.vehicle.imu_to_velo()),
     };
-    let mut pipeline = Pipeline::new(config, vehicle);
-    pipeline.hand_out_occupancy();
-    let occupancy = OccupancyThread::spawn(pipeline.config().occupancy.clone())?;
+    let (segmentation, mut tracking) = Pipeline::new(config, vehicle).into_halves();
+    tracking.hand_out_occupancy();
+    let occupancy = OccupancyThread::spawn(tracking.config().occupancy.clone())?;
     let mut out = Outputs::create(&args.out, source.calib().is_some(), args.debug_clusters)?;
     let progress = progress_bar(frames as u64);
-    let reader = spawn_reader(source.clone(), frames);
     let started = Instant::now();
-    let mut processing = 0.0;
+    let segmenter = SegmentThread::spawn(source.clone(), frames, segmentation)?;
+    let (mut segmenting_ms, mut tracking_ms) = (Vec::new(), Vec::new());
     let mut ids = BTreeSet::new();
     let mut tracking_frame = TrackingFrame::World;
-    for (i, frame) in reader.iter().enumerate() {
-        let frame = frame?;
-        let t0 = Instant::now();
-        let mut result = match pipeline.process(frame) {
-            Ok(result) => result,
+    for scan in segmenter.scans() {
+        let SegmentedScan {
+            index: i,
+            result,
+            ms,
+        } = scan?;
+        let mut segmented = match result {
+            Ok(segmented) => segmented,
             // No GPS fix yet: the scan cannot be placed in the world; the next ones will.
             Err(PipelineError::Pose(e)) => {
                 tracing::warn!("scan {i} ({}) skipped: {e}", scan_name(&source, i));
@@ -129,15 +130,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 return Err(e).with_context(|| format!("scan {i} ({})", scan_name(&source, i)));
             }
         };
+        let t0 = Instant::now();
+        let mut result = tracking.track(&mut segmented);
+        segmenter.recycle(segmented);
         if let Some(scan) = result.occupancy_scan.take() {
             occupancy.integrate(i, scan)?;
         }
-        processing += t0.elapsed().as_secs_f64();
+        segmenting_ms.push(ms);
+        tracking_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         tracking_frame = result.tracking_frame;
         ids.extend(result.tracks.iter().map(|t| t.id));
         out.write_frame(i, source.frame_id(i)?, &result, source.calib())?;
         if let Some(clusters) = &mut out.clusters {
-            clusters.write_frame(i, &result.odometry_pose, pipeline.tracker())?;
+            clusters.write_frame(i, &result.odometry_pose, tracking.tracker())?;
         }
         progress.inc(1);
     }
@@ -145,12 +150,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let occupancy = occupancy.finish()?;
     out.finish(frames, &occupancy.map, &occupancy.timings, &source)?;
     let wall = started.elapsed().as_secs_f64();
+    let mut occupancy_ms: Vec<f64> = occupancy.timings.iter().map(|(_, ms)| *ms).collect();
     println!(
-        "{}: {frames} scans in {wall:.2} s ({:.1} Hz end to end, {:.1} Hz in the pipeline), \
-         {} object tracks, tracked in the {} frame; wrote {}",
+        "{}: {frames} scans in {wall:.2} s ({:.1} Hz end to end; median ms a scan: \
+         segmentation {:.1}, tracking {:.1}, occupancy {:.1}), {} object tracks, tracked in the \
+         {} frame; wrote {}",
         source.name(),
         frames as f64 / wall.max(1e-9),
-        frames as f64 / processing.max(1e-9),
+        median(&mut segmenting_ms),
+        median(&mut tracking_ms),
+        median(&mut occupancy_ms),
         ids.len(),
         match tracking_frame {
             TrackingFrame::World => "world",
@@ -161,32 +170,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The file name of scan `i`, for error messages.
-fn scan_name(source: &Source, i: usize) -> String {
-    source
-        .scan_path(i)
-        .map(|p| p.display().to_string())
-        .unwrap_or_default()
-}
-
-/// Reads the scans on another thread, a few ahead of the pipeline.
-fn spawn_reader(
-    source: Source,
-    frames: usize,
-) -> mpsc::Receiver<anyhow::Result<trackd_perception::Frame>> {
-    let (tx, rx) = mpsc::sync_channel(READ_AHEAD);
-    std::thread::spawn(move || {
-        for i in 0..frames {
-            let frame = source
-                .frame(i)
-                .with_context(|| format!("reading scan {i} ({})", scan_name(&source, i)));
-            let failed = frame.is_err();
-            if tx.send(frame).is_err() || failed {
-                break;
-            }
-        }
-    });
-    rx
+/// The median of `values` (0 when empty).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// A progress bar on a terminal, nothing otherwise.
