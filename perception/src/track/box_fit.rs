@@ -21,7 +21,7 @@ const COARSE_STEP: f64 = 3.0 * std::f64::consts::PI / 180.0;
 const FINE_STEP: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// Distances below this (m) count as this in the closeness score, so points on an edge do
 /// not dominate.
-const MIN_CLOSENESS_DISTANCE: f64 = 0.05;
+const MIN_CLOSENESS_DISTANCE: f32 = 0.05;
 
 /// An oriented rectangle in the ground plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,9 +57,12 @@ pub fn fit_rectangle(points: &[Vector2<f64>]) -> Rect {
         y: [0.0; MAX_FIT_POINTS],
         len: 0,
     };
+    // The score does not change with translation: the sample is taken relative to the first
+    // point, where f32 is precise to micrometres.
+    let origin = points[0];
     for p in points.iter().step_by(stride) {
-        sample.x[sample.len] = p.x;
-        sample.y[sample.len] = p.y;
+        sample.x[sample.len] = (p.x - origin.x) as f32;
+        sample.y[sample.len] = (p.y - origin.y) as f32;
         sample.len += 1;
     }
     let score = |angle: f64| sample.closeness(angle);
@@ -94,11 +97,11 @@ pub fn fit_rectangle(points: &[Vector2<f64>]) -> Rect {
     }
 }
 
-/// The points the angle search scores, coordinates apart (x, then y) so that each angle's
-/// two passes over them run on whole registers.
+/// The points the angle search scores, coordinates apart (x, then y) and in `f32` so that
+/// each angle's two passes over them run on whole registers, four points at a time.
 struct Sample {
-    x: [f64; MAX_FIT_POINTS],
-    y: [f64; MAX_FIT_POINTS],
+    x: [f32; MAX_FIT_POINTS],
+    y: [f32; MAX_FIT_POINTS],
     len: usize,
 }
 
@@ -106,9 +109,9 @@ impl Sample {
     /// Closeness score of the rectangle at `angle`: points near its edges score high. The
     /// scores are added in point order.
     fn closeness(&self, angle: f64) -> f64 {
-        let (c, s) = (angle.cos(), angle.sin());
+        let (c, s) = (angle.cos() as f32, angle.sin() as f32);
         let (x, y) = (&self.x[..self.len], &self.y[..self.len]);
-        let (mut min1, mut max1, mut min2, mut max2) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        let (mut min1, mut max1, mut min2, mut max2) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
         for (&px, &py) in x.iter().zip(y) {
             let (a, b) = (c * px + s * py, -s * px + c * py);
             min1 = min1.min(a);
@@ -116,14 +119,14 @@ impl Sample {
             min2 = min2.min(b);
             max2 = max2.max(b);
         }
-        let mut scores = [0.0; MAX_FIT_POINTS];
+        let mut scores = [0.0f32; MAX_FIT_POINTS];
         for ((score, &px), &py) in scores.iter_mut().zip(x).zip(y) {
             let (a, b) = (c * px + s * py, -s * px + c * py);
             let d1 = (a - min1).min(max1 - a);
             let d2 = (b - min2).min(max2 - b);
             *score = 1.0 / d1.min(d2).max(MIN_CLOSENESS_DISTANCE);
         }
-        scores[..self.len].iter().sum()
+        scores[..self.len].iter().map(|&s| f64::from(s)).sum()
     }
 }
 

@@ -39,8 +39,9 @@ pub struct VfhConfig {
     pub min_points: usize,
     /// Larger clusters are described by this many of their points, evenly spread over the
     /// cluster's point order (normals from their own neighbours): a facade of 9000 points
-    /// costs as much as a car of 1000 instead of nine times more, and its histogram barely
-    /// changes. 0: no limit (every point, as PCL). Default 1024.
+    /// costs as much as a car of 500 instead of eighteen times more, and its histogram barely
+    /// changes (tracking on the 12 simulated drives and KITTI 0000 scored the same with 1024).
+    /// 0: no limit (every point, as PCL). Default 512.
     pub max_points: usize,
 }
 
@@ -60,7 +61,7 @@ impl Default for VfhConfig {
         Self {
             normal_k: 10,
             min_points: 10,
-            max_points: 1024,
+            max_points: 512,
         }
     }
 }
