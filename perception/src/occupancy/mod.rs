@@ -308,8 +308,28 @@ impl OccupancyMap {
     /// The map as an OctoMap binary tree file (`.bt`), readable by octovis and the octomap
     /// library: maximum-likelihood occupied/free leaves, pruned.
     pub fn to_bt(&self) -> Vec<u8> {
-        let leaves: Vec<([i32; 3], bool)> =
-            self.known().map(|(k, v)| (k, v.is_occupied())).collect();
+        // In the file's (Morton) order: blocks are aligned octants of the tree, so blocks
+        // sorted by the code of their first voxel, each walked in Morton order, are sorted.
+        let side = BLOCK_SIDE as i32;
+        let mut blocks: Vec<(u64, [i32; 3], u32)> = self
+            .index
+            .iter()
+            .filter_map(|(k, &b)| Some((octomap::morton(&k.map(|v| v * side))?, *k, b)))
+            .collect();
+        blocks.sort_unstable_by_key(|(m, _, _)| *m);
+        let mut leaves = Vec::new();
+        for (_, bkey, b) in blocks {
+            let voxels = &self.blocks[b as usize].voxels;
+            for m in 0..BLOCK_SIDE * BLOCK_SIDE * BLOCK_SIDE {
+                let axis = |a: usize| (m >> a & 1) | (m >> (a + 2) & 2) | (m >> (a + 4) & 4);
+                let local = [axis(0), axis(1), axis(2)];
+                let v = voxels[local[0] + BLOCK_SIDE * (local[1] + BLOCK_SIDE * local[2])];
+                if v.is_known() {
+                    let key = [0, 1, 2].map(|a| bkey[a] * side + local[a] as i32);
+                    leaves.push((key, v.is_occupied()));
+                }
+            }
+        }
         octomap::write_bt(self.config.resolution, &leaves)
     }
 

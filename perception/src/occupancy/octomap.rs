@@ -8,30 +8,32 @@ const DEPTH: u32 = 16;
 /// OctoMap's key offset (`tree_max_val`).
 const KEY_OFFSET: i64 = 1 << (DEPTH - 1);
 
-/// A node after maximum-likelihood pruning.
-enum Node {
+/// What a subtree became after maximum-likelihood pruning.
+#[derive(Clone, Copy, PartialEq)]
+enum Coded {
     Leaf { occupied: bool },
-    Inner(Box<[Option<Node>; 8]>),
+    Inner,
 }
 
 /// The `.bt` file of the given leaf voxels (voxel indices: floor(coordinate / resolution)).
-/// Voxels outside OctoMap's key range (±2^15 voxels) are left out.
+/// Voxels outside OctoMap's key range (±2^15 voxels) are left out. Given in [`morton`] order
+/// (as [`super::OccupancyMap::to_bt`] gives them), the sort takes one pass.
 pub(super) fn write_bt(resolution: f64, leaves: &[([i32; 3], bool)]) -> Vec<u8> {
     let mut coded: Vec<(u64, bool)> = leaves
         .iter()
         .filter_map(|(k, occupied)| morton(k).map(|m| (m, *occupied)))
         .collect();
-    coded.sort_unstable_by_key(|(m, _)| *m);
+    coded.sort_by_key(|(m, _)| *m);
     coded.dedup_by_key(|(m, _)| *m);
-    let root = (!coded.is_empty()).then(|| build(&coded, 0));
     let mut data = Vec::new();
-    let size = match &root {
-        Some(Node::Inner(children)) => {
-            write_inner(children, &mut data);
-            1 + count_children(children)
-        }
-        // A root collapsed to one leaf would need 2^48 voxels; there is nothing to write.
-        Some(Node::Leaf { .. }) | None => 0,
+    let mut nodes = 0;
+    let size = match coded.is_empty() {
+        true => 0,
+        false => match encode(&coded, 0, &mut data, &mut nodes) {
+            Coded::Inner => 1 + nodes,
+            // A root collapsed to one leaf would need 2^48 voxels; there is nothing to write.
+            Coded::Leaf { .. } => 0,
+        },
     };
     let mut out = format!(
         "# Octomap OcTree binary file\n# (feel free to add / change comments, but leave the first line as it is!)\n#\nid OcTree\nsize {size}\nres {resolution}\ndata\n"
@@ -43,7 +45,7 @@ pub(super) fn write_bt(resolution: f64, leaves: &[([i32; 3], bool)]) -> Vec<u8> 
 
 /// The Morton code of a voxel's OctoMap key: at each level, from the root down, the child
 /// index (x | y << 1 | z << 2), so sorting by it orders voxels as a pre-order walk does.
-fn morton(k: &[i32; 3]) -> Option<u64> {
+pub(super) fn morton(k: &[i32; 3]) -> Option<u64> {
     let mut key = [0u64; 3];
     for a in 0..3 {
         let v = i64::from(k[a]) + KEY_OFFSET;
@@ -66,15 +68,19 @@ fn child_at(m: u64, level: u32) -> usize {
     ((m >> (3 * (DEPTH - 1 - level))) & 7) as usize
 }
 
-/// The subtree of the (sorted, non-empty) voxels below a node at `level`, pruned: a node whose
-/// eight children are leaves of one state becomes that leaf, as OctoMap's `prune()` does.
-fn build(voxels: &[(u64, bool)], level: u32) -> Node {
+/// Writes the subtree of the (sorted, non-empty) voxels below a node at `level` to `out` in
+/// pre-order (the node's two bytes, then its inner children's subtrees), pruned: a node whose
+/// eight children are leaves of one state becomes that leaf, as OctoMap's `prune()` does, and
+/// writes nothing. Adds the nodes below it to `nodes`.
+fn encode(voxels: &[(u64, bool)], level: u32, out: &mut Vec<u8>, nodes: &mut usize) -> Coded {
     if level == DEPTH {
-        return Node::Leaf {
+        return Coded::Leaf {
             occupied: voxels[0].1,
         };
     }
-    let mut children: [Option<Node>; 8] = Default::default();
+    let (at, nodes_before) = (out.len(), *nodes);
+    out.extend_from_slice(&[0, 0]);
+    let mut children: [Option<Coded>; 8] = [None; 8];
     let mut start = 0;
     while start < voxels.len() {
         let child = child_at(voxels[start].0, level);
@@ -82,51 +88,29 @@ fn build(voxels: &[(u64, bool)], level: u32) -> Node {
             .iter()
             .take_while(|(m, _)| child_at(*m, level) == child)
             .count();
-        children[child] = Some(build(&voxels[start..start + len], level + 1));
+        children[child] = Some(encode(&voxels[start..start + len], level + 1, out, nodes));
         start += len;
     }
-    let first = match &children[0] {
-        Some(Node::Leaf { occupied }) => Some(*occupied),
-        _ => None,
-    };
-    if let Some(state) = first
-        && children
-            .iter()
-            .all(|c| matches!(c, Some(Node::Leaf { occupied }) if *occupied == state))
+    if let Some(leaf @ Coded::Leaf { .. }) = children[0]
+        && children.iter().all(|c| *c == Some(leaf))
     {
-        return Node::Leaf { occupied: state };
+        out.truncate(at);
+        *nodes = nodes_before;
+        return leaf;
     }
-    Node::Inner(Box::new(children))
-}
-
-fn write_inner(children: &[Option<Node>; 8], out: &mut Vec<u8>) {
     let mut bits = 0u16;
     for (i, child) in children.iter().enumerate() {
         let code = match child {
             None => 0b00,
-            Some(Node::Leaf { occupied: true }) => 0b10, // bit 2i = 0, bit 2i+1 = 1
-            Some(Node::Leaf { occupied: false }) => 0b01, // bit 2i = 1, bit 2i+1 = 0
-            Some(Node::Inner(_)) => 0b11,
+            Some(Coded::Leaf { occupied: true }) => 0b10, // bit 2i = 0, bit 2i+1 = 1
+            Some(Coded::Leaf { occupied: false }) => 0b01, // bit 2i = 1, bit 2i+1 = 0
+            Some(Coded::Inner) => 0b11,
         };
         bits |= code << (2 * i);
     }
-    out.extend_from_slice(&[(bits & 0xff) as u8, (bits >> 8) as u8]);
-    for child in children.iter().flatten() {
-        if let Node::Inner(grandchildren) = child {
-            write_inner(grandchildren, out);
-        }
-    }
-}
-
-fn count_children(children: &[Option<Node>; 8]) -> usize {
-    children
-        .iter()
-        .flatten()
-        .map(|c| match c {
-            Node::Leaf { .. } => 1,
-            Node::Inner(g) => 1 + count_children(g),
-        })
-        .sum()
+    out[at..at + 2].copy_from_slice(&bits.to_le_bytes());
+    *nodes += children.iter().flatten().count();
+    Coded::Inner
 }
 
 #[cfg(test)]
