@@ -41,9 +41,14 @@ pub enum NeighbourIndex {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ClusterConfig {
-    /// Neighbourhood radius in metres. Default 0.7: the HDL-64E's rings on a car 40 m away
-    /// lie 0.5-0.7 m apart vertically, so a smaller radius cuts distant cars into one cluster
-    /// per ring, while 0.7 m still keeps a cyclist and a car a lane apart.
+    /// Neighbourhood radius in metres. Default 0.85: the HDL-64E's rings on a car 40 m away
+    /// lie 0.5-0.7 m apart vertically, and its glass returns nothing, so a smaller radius cuts
+    /// distant cars into pieces (one per ring, roof apart from body), and the strips of
+    /// hedges and facades into car-sized clutter; 0.85 m still keeps a cyclist and a car a
+    /// lane apart (people side by side are split by the tracker). Measured on 12 simulated
+    /// drives and KITTI 0000: 0.5 / 0.6 / 0.7 / 0.8 / 0.85 / 0.9 / 1.0 m gave simulated MOTA
+    /// 78.6 / 81.3 / 83.8 / 85.5 / 86.5 / 85.7 / 85.3 %; above 0.85 m real clutter merges into
+    /// car-shaped blobs (KITTI false positives 2 at 0.85 m, 5 at 0.9 m, 15 at 1.0 m).
     pub eps: f64,
     /// Points (itself counted) within `eps` that make a point core. Default 4: a distant car
     /// contributes a few points per ring and must still be found; single stray returns
@@ -56,7 +61,7 @@ pub struct ClusterConfig {
 impl Default for ClusterConfig {
     fn default() -> Self {
         Self {
-            eps: 0.7,
+            eps: 0.85,
             min_points: 4,
             index: NeighbourIndex::Grid,
         }
