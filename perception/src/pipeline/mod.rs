@@ -2,11 +2,12 @@
 //! tracking → occupancy → super frame, one scan at a time. Every buffer is kept from scan to
 //! scan, so a steady stream of scans allocates next to nothing.
 //!
-//! It comes in two halves: [`Segmentation`] (pose to DBSCAN) reads nothing the tracker writes,
-//! and [`Tracking`] (cluster gathering, VFH, tracking, occupancy, super frames) takes what it
-//! made. [`Pipeline`] runs one after the other; `trackd run` runs them on two threads, the next
+//! It comes in two halves: [`Segmentation`] (pose to DBSCAN, the clusters gathered and
+//! described by their VFH) reads nothing the tracker writes, and [`Tracking`] (clusters split
+//! among the tracks that claim them, tracking, occupancy, super frames) takes what it made. [`Pipeline`] runs one after the other; `trackd run` runs them on two threads, the next
 //! scan's segmentation overlapping this one's tracking.
 
+mod gather;
 mod segmentation;
 mod tracking;
 

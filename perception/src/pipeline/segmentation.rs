@@ -1,9 +1,11 @@
-//! The pipeline's front half: ego pose, range filter, ground removal, world transform and
-//! DBSCAN of one scan, with the scan's range image built beside them. It reads nothing the
-//! tracker writes, so the next scan can be segmented while this one is tracked.
+//! The pipeline's front half: ego pose, range filter, ground removal, world transform, DBSCAN,
+//! the clusters gathered and described by their VFH, with the scan's range image built beside
+//! them. It reads nothing the tracker writes, so the next scan can be segmented while this one
+//! is tracked.
 
 use nalgebra::{Isometry3, Translation3, Vector3};
 
+use super::gather::{Clusters, Gatherer};
 use super::{EgoPose, FrameCounts, Laps, PipelineError, TrackingFrame, Vehicle};
 use crate::cluster::{Clustering, Dbscan};
 use crate::config::Config;
@@ -33,6 +35,8 @@ pub struct Segmented {
     /// Ground points, odometry frame.
     pub(super) ground_points: Vec<Point>,
     pub(super) clustering: Clustering,
+    /// The clusters gathered for tracking, with their VFHs.
+    pub(super) clusters: Clusters,
     /// The ground plane and its local heights.
     pub(super) ground: Ground,
     /// Nearest range per direction (the motion test's view); filled when tracking in the world
@@ -54,6 +58,7 @@ impl Default for Segmented {
             obstacles: Vec::new(),
             ground_points: Vec::new(),
             clustering: Clustering::default(),
+            clusters: Clusters::default(),
             ground: Ground::horizontal(0.0),
             image: RangeImage::default(),
             counts: FrameCounts::default(),
@@ -70,6 +75,7 @@ pub struct Segmentation {
     filter: Filter,
     ground_removal: GroundRemoval,
     dbscan: Dbscan,
+    gatherer: Gatherer,
     filtered: Vec<Point>,
     is_ground: Vec<bool>,
     obstacles: Vec<Point>,
@@ -88,6 +94,7 @@ impl Segmentation {
             filter: Filter::new(config.filter.clone()),
             ground_removal: GroundRemoval::new(config.ground.clone()),
             dbscan: Dbscan::new(config.cluster.clone()),
+            gatherer: Gatherer::new(config),
             filtered: Vec::new(),
             is_ground: Vec::new(),
             obstacles: Vec::new(),
@@ -167,7 +174,7 @@ impl Segmentation {
         Ok(())
     }
 
-    /// Filter, ground, world and DBSCAN of one scan at `pose`, each lapped.
+    /// Filter, ground, world, DBSCAN, gathering and VFH of one scan at `pose`, each lapped.
     fn stages(
         &mut self,
         frame: &Frame,
@@ -204,6 +211,19 @@ impl Segmentation {
 
         self.dbscan.run(&out.obstacles, &mut out.clustering)?;
         laps.lap("dbscan");
+
+        let sensor = pose.translation.vector;
+        self.gatherer.gather(
+            &out.clustering,
+            &out.obstacles,
+            [sensor.x, sensor.y],
+            &out.ground,
+            &mut out.clusters,
+        );
+        laps.lap("gather");
+        self.gatherer
+            .describe(&mut out.clusters, [sensor.x, sensor.y, sensor.z]);
+        laps.lap("vfh");
         Ok(())
     }
 

@@ -1,5 +1,6 @@
 //! `trackd run`'s front half on a thread of its own: each scan is read and segmented (pose to
-//! DBSCAN) a few scans ahead, while the main thread tracks the ones before.
+//! DBSCAN, and the clusters' VFHs) a few scans ahead, while the main thread tracks the ones
+//! before.
 
 use std::sync::mpsc;
 use std::time::Instant;

@@ -1,0 +1,158 @@
+//! DBSCAN's clusters made into what the tracker takes, before any track is consulted: stacked
+//! fragments of one object joined, clusters larger than any object left to the map, people a
+//! gap away peeled apart, and each cluster described by its VFH. (Clusters holding several
+//! confirmed tracks are split among them later, by the tracking half.)
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use crate::Point;
+use crate::cluster::Clustering;
+use crate::config::Config;
+use crate::track::Ground;
+use crate::track::fragments::{Bounds, stacked_groups};
+use crate::track::person_split::{PersonShape, PersonSplitter};
+use crate::vfh::{BINS, Vfh, VfhConfig, VfhEstimator};
+
+/// What VFH tells of one cluster: its histogram, the histogram's CDF and the cluster's surface
+/// variation.
+pub(super) type Signature = (Vfh, [f32; BINS], f32);
+
+/// The clusters of one scan, gathered contiguously.
+#[derive(Debug, Default)]
+pub(super) struct Clusters {
+    /// Points of every cluster, one after the other (world frame).
+    pub(super) points: Vec<Point>,
+    /// Each cluster's points.
+    pub(super) ranges: Vec<Range<usize>>,
+    /// Each cluster's VFH (`None`: too few points to describe).
+    pub(super) signatures: Vec<Option<Signature>>,
+}
+
+/// The gathering's settings and reusable buffers.
+#[derive(Debug)]
+pub(super) struct Gatherer {
+    /// Clusters longer than this on an axis (m) are structure.
+    largest: f32,
+    person: PersonShape,
+    /// Whether merged objects are split (people apart here, tracks apart later).
+    split_merged: bool,
+    vfh: VfhConfig,
+    person_splitter: PersonSplitter,
+    bounds: Vec<Bounds>,
+    groups: Vec<usize>,
+    group_ranges: Vec<Range<usize>>,
+    sizes: Vec<usize>,
+    people: Vec<Range<usize>>,
+}
+
+impl Gatherer {
+    /// A gatherer with the settings of `config`.
+    pub(super) fn new(config: &Config) -> Self {
+        let classify = &config.track.classify;
+        Self {
+            largest: classify.max_object_length as f32 * std::f32::consts::SQRT_2,
+            person: PersonShape::of(classify),
+            split_merged: config.track.split_merged_clusters,
+            vfh: config.vfh.clone(),
+            person_splitter: PersonSplitter::default(),
+            bounds: Vec::new(),
+            groups: Vec::new(),
+            group_ranges: Vec::new(),
+            sizes: Vec::new(),
+            people: Vec::new(),
+        }
+    }
+
+    /// Gathers the clusters of `clustering` over `obstacles` (world frame), seen from `sensor`
+    /// above `ground`, into `out`, in order of their first cluster.
+    pub(super) fn gather(
+        &mut self,
+        clustering: &Clustering,
+        obstacles: &[Point],
+        sensor: [f64; 2],
+        ground: &Ground,
+        out: &mut Clusters,
+    ) {
+        self.bounds.clear();
+        for members in clustering.clusters() {
+            let points = members.iter().map(|&i| &obstacles[i as usize]);
+            self.bounds.push(Bounds::of(points));
+        }
+        stacked_groups(&self.bounds, &mut self.groups);
+        // Order the members by group: a counting sort over the clusters' member lists.
+        let group_count = self.groups.iter().max().map_or(0, |g| g + 1);
+        self.sizes.clear();
+        self.sizes.resize(group_count, 0);
+        for (k, members) in clustering.clusters().enumerate() {
+            self.sizes[self.groups[k]] += members.len();
+        }
+        self.group_ranges.clear();
+        let mut start = 0;
+        for size in &self.sizes {
+            self.group_ranges.push(start..start);
+            start += size;
+        }
+        out.points.clear();
+        out.points.resize(start, Point::default());
+        for (k, members) in clustering.clusters().enumerate() {
+            let r = &mut self.group_ranges[self.groups[k]];
+            for &i in members {
+                out.points[r.end] = obstacles[i as usize];
+                r.end += 1;
+            }
+        }
+        out.ranges.clear();
+        for r in &self.group_ranges {
+            let bounds = Bounds::of(&out.points[r.clone()]);
+            let too_large = bounds.max[0] - bounds.min[0] > self.largest
+                || bounds.max[1] - bounds.min[1] > self.largest;
+            if too_large {
+                continue;
+            }
+            if !self.split_merged {
+                out.ranges.push(r.clone());
+                continue;
+            }
+            self.people.clear();
+            self.person_splitter.split(
+                &mut out.points[r.clone()],
+                sensor,
+                ground,
+                &self.person,
+                &mut self.people,
+            );
+            out.ranges.extend(
+                self.people
+                    .iter()
+                    .map(|p| r.start + p.start..r.start + p.end),
+            );
+        }
+    }
+
+    /// Computes the VFH of every gathered cluster in `clusters`, in parallel, seen from
+    /// `viewpoint`.
+    pub(super) fn describe(&self, clusters: &mut Clusters, viewpoint: [f64; 3]) {
+        let points = &clusters.points;
+        clusters
+            .ranges
+            .par_iter()
+            .map_init(
+                || VfhEstimator::new(self.vfh.clone()),
+                |estimator, r| describe(estimator, &points[r.clone()], viewpoint),
+            )
+            .collect_into_vec(&mut clusters.signatures);
+    }
+}
+
+/// The signature of one cluster's `points` seen from `viewpoint`, if it has enough points.
+pub(super) fn describe(
+    estimator: &mut VfhEstimator,
+    points: &[Point],
+    viewpoint: [f64; 3],
+) -> Option<Signature> {
+    estimator
+        .compute(points, viewpoint)
+        .map(|vfh| (vfh, vfh.cdf(), estimator.surface_variation()))
+}
