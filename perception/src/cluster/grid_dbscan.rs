@@ -135,11 +135,16 @@ impl GridDbscan {
             if self.core_count[cell] == 0 {
                 continue;
             }
-            for i in self.near_start[cell] as usize..self.near_start[cell + 1] as usize {
+            // Each pair once: the cells after this one (a clique cell's core points are
+            // joined already), or from this one on. The list is ascending.
+            let near = self.near_start[cell] as usize..self.near_start[cell + 1] as usize;
+            let first = near.start
+                + self.near[near.clone()]
+                    .partition_point(|&other| other < cell as u32 + u32::from(self.clique));
+            for i in first..near.end {
                 let other = self.near[i] as usize;
                 if self.clique {
-                    if other <= cell
-                        || self.core_count[other] == 0
+                    if self.core_count[other] == 0
                         || self.union.find(cell as u32) == self.union.find(other as u32)
                     {
                         continue;
@@ -147,7 +152,7 @@ impl GridDbscan {
                     if self.cells_touch(cell, other, params) {
                         self.union.union(cell as u32, other as u32);
                     }
-                } else if other >= cell {
+                } else {
                     self.join_pairs(cell, other, params);
                 }
             }
@@ -172,6 +177,10 @@ impl GridDbscan {
         let reach2 = params.eps2 * (1.0 + 1e-9);
         if box_gap2(box_a, box_b) > reach2 {
             return false;
+        }
+        if box_span2(box_a, box_b) <= params.eps2 {
+            // Every pair is within eps.
+            return true;
         }
         let xyz = self.grid.xyz();
         let pa = &xyz[self.core_range(a)];
@@ -292,6 +301,19 @@ fn bounding_box(points: &[[f32; 3]]) -> Box3 {
         }
     }
     b
+}
+
+/// Squared distance between the farthest corners of two boxes, computed as [`dist2`]
+/// computes it: never less than the squared distance it computes between a point of one and
+/// a point of the other (rounding is monotonic).
+fn box_span2(a: Box3, b: Box3) -> f64 {
+    let mut d2 = 0.0;
+    for axis in 0..3 {
+        let span =
+            (b[1][axis] as f64 - a[0][axis] as f64).max(a[1][axis] as f64 - b[0][axis] as f64);
+        d2 += span * span;
+    }
+    d2
 }
 
 /// Squared gap between two boxes (0 when they overlap): never more than the squared distance
