@@ -26,6 +26,17 @@ impl Aabb {
             && p.z >= self.min[2]
             && p.z <= self.max[2]
     }
+
+    /// [`contains`](Self::contains), every comparison made.
+    #[inline]
+    fn contains_branch_free(&self, p: &Point) -> bool {
+        (p.x >= self.min[0])
+            & (p.x <= self.max[0])
+            & (p.y >= self.min[1])
+            & (p.y <= self.max[1])
+            & (p.z >= self.min[2])
+            & (p.z <= self.max[2])
+    }
 }
 
 /// The KITTI recording car around its Velodyne: body, mirrors (|y| up to 1.45 m at
@@ -78,7 +89,24 @@ impl FilterConfig {
             && self.crop.is_none_or(|b| b.contains(p))
             && !self.ego_box.is_some_and(|b| b.contains(p))
     }
+
+    /// [`keeps`](Self::keeps), every comparison made (no short cut): one branch-free
+    /// expression the compiler can schedule freely.
+    #[inline]
+    fn keeps_branch_free(&self, p: &Point) -> bool {
+        let r2 = p.norm_squared();
+        let finite = p.x.is_finite() & p.y.is_finite() & p.z.is_finite();
+        let finite = finite & p.intensity.is_finite();
+        let in_band =
+            (r2 >= self.min_range * self.min_range) & (r2 <= self.max_range * self.max_range);
+        let cropped = self.crop.is_none_or(|b| b.contains_branch_free(p));
+        let ego = self.ego_box.is_some_and(|b| b.contains_branch_free(p));
+        finite & in_band & cropped & !ego
+    }
 }
+
+/// Points whose tests run together, before their copies.
+const CHUNK: usize = 64;
 
 /// The filter stage with its reusable buffers.
 #[derive(Debug, Default)]
@@ -108,7 +136,15 @@ impl Filter {
         out.clear();
         let voxel = self.config.voxel_size.filter(|v| v.is_finite() && *v > 0.0);
         let Some(voxel) = voxel else {
-            out.extend(input.iter().filter(|p| self.config.keeps(p)));
+            let mut keep = [false; CHUNK];
+            for points in input.chunks(CHUNK) {
+                // Every test of every point first, without branches, then the copies.
+                for (keep, p) in keep.iter_mut().zip(points) {
+                    *keep = self.config.keeps_branch_free(p);
+                }
+                let kept = points.iter().zip(&keep).filter(|&(_, &keep)| keep);
+                out.extend(kept.map(|(p, _)| *p));
+            }
             return;
         };
         let config = &self.config;
@@ -183,6 +219,47 @@ mod tests {
         assert!((out[0].x - 10.05).abs() < 1e-5 && (out[0].y - 0.05).abs() < 1e-6);
         assert!((out[0].intensity - 0.3).abs() < 1e-6);
         assert_eq!(out[1], input[2]);
+    }
+
+    #[test]
+    fn branch_free_tests_keep_what_keeps_keeps() {
+        let values = [
+            f32::NAN,
+            f32::NEG_INFINITY,
+            -60.0,
+            -2.8,
+            -1.5,
+            -0.4,
+            0.0,
+            0.3,
+            1.5,
+            2.8,
+            49.9,
+            f32::INFINITY,
+        ];
+        let crop = Some(Aabb {
+            min: [-1.5, -2.8, -0.4],
+            max: [49.9, 1.5, 2.8],
+        });
+        for config in [
+            FilterConfig::default(),
+            FilterConfig {
+                crop,
+                ego_box: None,
+                ..Default::default()
+            },
+        ] {
+            for &x in &values {
+                for &y in &values {
+                    for &z in &values {
+                        for intensity in [0.5, f32::NAN] {
+                            let p = Point::new(x, y, z, intensity);
+                            assert_eq!(config.keeps_branch_free(&p), config.keeps(&p), "{p:?}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{
     Point,
-    angle::fast_atan2,
+    angle::fast_atan2_branchless,
     pca::{Moments, cross, dot, normalized, smallest_eigenvector},
 };
 
@@ -168,9 +168,11 @@ impl Plane {
 #[derive(Debug)]
 pub struct GroundRemoval {
     config: GroundConfig,
-    /// The rings (at least one, each with at least one sector) and each one's first zone.
+    /// The rings (at least one, each with at least one sector), each one's first zone and
+    /// its sectors per radian of azimuth.
     rings: Vec<ZoneRing>,
     first_zone: Vec<usize>,
+    per_radian: Vec<f32>,
     /// Per input point: its zone and horizontal range.
     zone_of: Vec<u32>,
     range_of: Vec<f32>,
@@ -186,11 +188,10 @@ pub struct GroundRemoval {
     /// Scratch: counting-sort cursors and ground flags.
     cursor: Vec<u32>,
     ground: Vec<bool>,
-    /// Scratch: the zone planes in f32, each point's column of the obstacle-base test, the
-    /// columns holding an obstacle (one bit each: the table stays in cache), and the (x, y)
-    /// bounds of the finite points.
+    /// Scratch: the zone planes in f32, the columns of the obstacle-base test holding an
+    /// obstacle (one bit each: the table stays in cache), and the (x, y) bounds of the finite
+    /// points.
     plane32: Vec<[f32; 4]>,
-    column_of: Vec<u32>,
     obstacle_column: Vec<u64>,
     bounds: [f32; 4],
 }
@@ -239,10 +240,15 @@ impl GroundRemoval {
                 Some(first)
             })
             .collect();
+        let per_radian = rings
+            .iter()
+            .map(|r| r.sectors as f32 / std::f32::consts::TAU)
+            .collect();
         Self {
             config,
             rings,
             first_zone,
+            per_radian,
             zone_of: Vec::new(),
             range_of: Vec::new(),
             zone_start: Vec::new(),
@@ -253,7 +259,6 @@ impl GroundRemoval {
             cursor: Vec::new(),
             ground: Vec::new(),
             plane32: Vec::new(),
-            column_of: Vec::new(),
             obstacle_column: Vec::new(),
             bounds: [0.0; 4],
         }
@@ -333,13 +338,13 @@ impl GroundRemoval {
         let obstacle = &mut self.obstacle_column;
         obstacle.clear();
         obstacle.resize((nx * ny).div_ceil(64), 0);
-        self.column_of.clear();
-        self.column_of.resize(points.len(), u32::MAX);
         is_ground.clear();
         is_ground.resize(points.len(), true);
+        let column_of = |p: &Point| {
+            index_below((p.x - min_x) * inv, nx) * ny + index_below((p.y - min_y) * inv, ny)
+        };
         let located = points.iter().zip(&self.zone_of).zip(&self.range_of);
-        let marks = is_ground.iter_mut().zip(self.column_of.iter_mut());
-        for (((p, &zone), &range), (ground, column_of)) in located.zip(marks) {
+        for (((p, &zone), &range), ground) in located.zip(is_ground.iter_mut()) {
             // Non-finite points stay ground, in no column.
             if zone == u32::MAX {
                 continue;
@@ -347,24 +352,19 @@ impl GroundRemoval {
             let [a, b, c, d] = self.plane32[zone as usize];
             let h = a * p.x + b * p.y + c * p.z + d;
             *ground = h <= limit + growth * range;
-            if base_test {
-                let cx = index_below((p.x - min_x) * inv, nx);
-                let cy = index_below((p.y - min_y) * inv, ny);
-                let column = cx * ny + cy;
-                *column_of = column as u32;
-                if h >= band_lo && h <= band_hi {
-                    obstacle[column / 64] |= 1 << (column % 64);
-                }
+            if base_test && h >= band_lo && h <= band_hi {
+                let column = column_of(p);
+                obstacle[column / 64] |= 1 << (column % 64);
             }
         }
         if base_test {
-            for (g, &column) in is_ground.iter_mut().zip(&self.column_of) {
-                let column = column as usize;
-                if *g
-                    && column != u32::MAX as usize
-                    && (obstacle[column / 64] >> (column % 64)) & 1 == 1
-                {
-                    *g = false;
+            let located = points.iter().zip(&self.zone_of);
+            for ((p, &zone), g) in located.zip(is_ground.iter_mut()) {
+                if *g && zone != u32::MAX {
+                    let column = column_of(p);
+                    if (obstacle[column / 64] >> (column % 64)) & 1 == 1 {
+                        *g = false;
+                    }
                 }
             }
         }
@@ -387,27 +387,34 @@ impl GroundRemoval {
         self.range_of.clear();
         self.range_of.resize(points.len(), 0.0);
         let mut bounds = self.bounds;
-        let (inner, last) = (&rings[..rings.len() - 1], rings.len() - 1);
-        let slots = self.zone_of.iter_mut().zip(self.range_of.iter_mut());
-        for (p, (zone_of, range_of)) in points.iter().zip(slots) {
-            // Non-finite points are in no zone.
-            if !p.is_finite() {
-                continue;
+        let inner = &rings[..rings.len() - 1];
+        let mut chunk = ZoneChunk::default();
+        let slots = self
+            .zone_of
+            .chunks_mut(CHUNK)
+            .zip(self.range_of.chunks_mut(CHUNK));
+        for (points, (zone_of, range_of)) in points.chunks(CHUNK).zip(slots) {
+            chunk.measure(points, inner);
+            for (k, p) in points.iter().enumerate() {
+                // Non-finite points are in no zone.
+                if !p.is_finite() {
+                    continue;
+                }
+                let ring = chunk.ring[k] as usize;
+                let sector =
+                    sector_index(chunk.azimuth[k], self.per_radian[ring], rings[ring].sectors);
+                // Plain comparisons: the point is finite, f32::min's NaN handling is not needed.
+                bounds = [
+                    if p.x < bounds[0] { p.x } else { bounds[0] },
+                    if p.y < bounds[1] { p.y } else { bounds[1] },
+                    if p.x > bounds[2] { p.x } else { bounds[2] },
+                    if p.y > bounds[3] { p.y } else { bounds[3] },
+                ];
+                let zone = self.first_zone[ring] + sector;
+                zone_of[k] = zone as u32;
+                range_of[k] = chunk.range[k];
+                self.zone_start[zone + 1] += 1;
             }
-            let range = (p.x * p.x + p.y * p.y).sqrt();
-            let ring = inner.iter().position(|r| range < r.outer).unwrap_or(last);
-            let sector = sector_of(p.y, p.x, rings[ring].sectors);
-            // Plain comparisons: the point is finite, f32::min's NaN handling is not needed.
-            bounds = [
-                if p.x < bounds[0] { p.x } else { bounds[0] },
-                if p.y < bounds[1] { p.y } else { bounds[1] },
-                if p.x > bounds[2] { p.x } else { bounds[2] },
-                if p.y > bounds[3] { p.y } else { bounds[3] },
-            ];
-            let zone = self.first_zone[ring] + sector;
-            *zone_of = zone as u32;
-            *range_of = range;
-            self.zone_start[zone + 1] += 1;
         }
         self.bounds = bounds;
         for z in 0..zones {
@@ -655,10 +662,61 @@ fn iterations_needed(ratio: f64, confidence: f64, max: usize) -> usize {
     }
 }
 
-/// The azimuth sector of (x, y) among `sectors` equal sectors, sector 0 starting at -π.
-fn sector_of(y: f32, x: f32, sectors: usize) -> usize {
-    use std::f32::consts::{PI, TAU};
-    index_below((fast_atan2(y, x) + PI) * (sectors as f32 / TAU), sectors)
+/// Points whose range, azimuth and ring are computed together, in loops over arrays that
+/// the compiler turns into SIMD.
+const CHUNK: usize = 64;
+
+/// The horizontal range, azimuth and ring of up to [`CHUNK`] points.
+struct ZoneChunk {
+    x: [f32; CHUNK],
+    y: [f32; CHUNK],
+    range: [f32; CHUNK],
+    azimuth: [f32; CHUNK],
+    ring: [u32; CHUNK],
+}
+
+impl Default for ZoneChunk {
+    fn default() -> Self {
+        Self {
+            x: [0.0; CHUNK],
+            y: [0.0; CHUNK],
+            range: [0.0; CHUNK],
+            azimuth: [0.0; CHUNK],
+            ring: [0; CHUNK],
+        }
+    }
+}
+
+impl ZoneChunk {
+    /// Measures `points` (at most [`CHUNK`]; the slots after them hold the last chunk's
+    /// values): the ring of a point is the first of `inner` whose outer edge lies beyond its
+    /// range, or the last ring (`inner.len()`).
+    fn measure(&mut self, points: &[Point], inner: &[ZoneRing]) {
+        for (k, p) in points.iter().enumerate() {
+            (self.x[k], self.y[k]) = (p.x, p.y);
+        }
+        for k in 0..CHUNK {
+            let (x, y) = (self.x[k], self.y[k]);
+            self.range[k] = (x * x + y * y).sqrt();
+            self.azimuth[k] = fast_atan2_branchless(y, x);
+        }
+        self.ring = [0; CHUNK];
+        let mut inside = [false; CHUNK];
+        for ring in inner {
+            let lanes = inside.iter_mut().zip(&self.range).zip(&mut self.ring);
+            for ((inside, &range), index) in lanes {
+                *inside |= range < ring.outer;
+                *index += u32::from(!*inside);
+            }
+        }
+    }
+}
+
+/// The azimuth sector of `azimuth` (from [`fast_atan2_branchless`]) among `sectors` equal sectors,
+/// sector 0 starting at -π; `per_radian` is `sectors as f32 / 2π`.
+#[inline]
+fn sector_index(azimuth: f32, per_radian: f32, sectors: usize) -> usize {
+    index_below((azimuth + std::f32::consts::PI) * per_radian, sectors)
 }
 
 /// `(v as usize).min(n - 1)` (n ≥ 1, at most 2³¹) through a cheaper `i32` conversion: both
@@ -854,6 +912,36 @@ mod tests {
             for to_beat in [score - 1, score, score + 1, -1000, 300] {
                 let expected = (score > to_beat).then_some((score, inliers));
                 assert_eq!(sample.score(&plane, 0.2, Some(to_beat)), expected);
+            }
+        }
+    }
+
+    #[test]
+    fn chunked_rings_are_the_first_ring_reaching_beyond_the_range() {
+        let mut rng = SplitMix64::new(3);
+        let mut unit = || (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
+        // Edges in order, out of order and repeated: the first that reaches beyond counts.
+        for edges in [vec![6.0, 12.0, 20.0], vec![15.0, 5.0, 30.0, 5.0], vec![]] {
+            let inner: Vec<ZoneRing> = edges
+                .iter()
+                .map(|&outer| ZoneRing { outer, sectors: 4 })
+                .collect();
+            let points: Vec<Point> = (0..150)
+                .map(|_| Point::new(unit() * 80.0 - 40.0, unit() * 80.0 - 40.0, 0.0, 0.0))
+                .collect();
+            let mut chunk = ZoneChunk::default();
+            for points in points.chunks(CHUNK) {
+                chunk.measure(points, &inner);
+                for (k, p) in points.iter().enumerate() {
+                    let range = (p.x * p.x + p.y * p.y).sqrt();
+                    let ring = inner
+                        .iter()
+                        .position(|r| range < r.outer)
+                        .unwrap_or(inner.len());
+                    assert_eq!(chunk.ring[k] as usize, ring, "{edges:?} {p:?}");
+                    assert_eq!(chunk.range[k], range);
+                    assert_eq!(chunk.azimuth[k], fast_atan2_branchless(p.y, p.x));
+                }
             }
         }
     }

@@ -83,11 +83,12 @@ pub(crate) fn smallest_eigenvector(m: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
     }
     let inverse = 1.0 / scale;
     let a = m.map(|row| row.map(|v| v * inverse));
-    let (smallest, largest) = extreme_eigenvalues(a);
+    let roots = eigenvalue_roots(a);
+    let smallest = roots.smallest();
     let vector = eigenvector(a, smallest).unwrap_or_else(|| {
         // Two (or three) eigenvalues equal the smallest: any unit vector orthogonal to the
         // largest eigenvalue's eigenvector will do.
-        let axis = eigenvector(a, largest).unwrap_or([0.0, 0.0, 1.0]);
+        let axis = eigenvector(a, roots.largest()).unwrap_or([0.0, 0.0, 1.0]);
         let helper = if axis[0].abs() < 0.9 {
             [1.0, 0.0, 0.0]
         } else {
@@ -102,20 +103,55 @@ pub(crate) fn smallest_eigenvector(m: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
 /// the double root `r = 2`.
 const ROOT_SLOPE: f64 = 1.154_700_538_379_251_5;
 
-/// The smallest and the largest eigenvalue of a symmetric 3×3 matrix `a` (entries of order
-/// 1). With `q` the mean eigenvalue and `p² = tr((a - qI)²) / 6`, the eigenvalues are
-/// `q + p·x` for the three roots `x` of `x³ - 3x = r`, `r = det((a - qI) / p)` in [-2, 2]
-/// (Smith 1961). The smallest root lies in [-2, -1]: `-1 - δ` with `δ ≈ (2/√3)·s - (2/√3 - 1)·s²`,
-/// `s = sqrt((2 - r) / 4)`, which is exact at both ends and within 1 % between; two Halley
-/// steps (cubic convergence) take it to rounding level. The largest root then follows from
-/// the quadratic the other two roots solve.
-fn extreme_eigenvalues(a: [[f64; 3]; 3]) -> (f64, f64) {
+/// The eigenvalues of a symmetric 3×3 matrix (see [`eigenvalue_roots`]): the smallest, and
+/// what the largest follows from.
+#[derive(Clone, Copy)]
+struct Roots {
+    smallest: f64,
+    /// `q + p·y` is the largest for the largest root `y`; `p` is `None` for a multiple of
+    /// the identity, whose eigenvalues all equal `q`.
+    q: f64,
+    p: Option<f64>,
+    /// The smallest root of `x³ - 3x = r`.
+    x: f64,
+}
+
+impl Roots {
+    /// The smallest eigenvalue.
+    fn smallest(self) -> f64 {
+        self.smallest
+    }
+
+    /// The largest eigenvalue: the other two roots solve `y² + x·y + x² - 3 = 0`.
+    fn largest(self) -> f64 {
+        let Some(p) = self.p else {
+            return self.q;
+        };
+        let x = self.x;
+        let largest = -0.5 * x + (3.0 - 0.75 * x * x).max(0.0).sqrt();
+        self.q + p * largest
+    }
+}
+
+/// The eigenvalues of a symmetric 3×3 matrix `a` (entries of order 1). With `q` the mean
+/// eigenvalue and `p² = tr((a - qI)²) / 6`, the eigenvalues are `q + p·x` for the three roots
+/// `x` of `x³ - 3x = r`, `r = det((a - qI) / p)` in [-2, 2] (Smith 1961). The smallest root
+/// lies in [-2, -1]: `-1 - δ` with `δ ≈ (2/√3)·s - (2/√3 - 1)·s²`, `s = sqrt((2 - r) / 4)`,
+/// which is exact at both ends and within 1 % between; two Halley steps (cubic convergence)
+/// take it to rounding level. The largest root follows from it only when asked for.
+fn eigenvalue_roots(a: [[f64; 3]; 3]) -> Roots {
     let q = (a[0][0] + a[1][1] + a[2][2]) * (1.0 / 3.0);
     let d = [a[0][0] - q, a[1][1] - q, a[2][2] - q];
     let (xy, xz, yz) = (a[0][1], a[0][2], a[1][2]);
     let p2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * (xy * xy + xz * xz + yz * yz);
     if p2 <= 0.0 {
-        return (q, q);
+        // A multiple of the identity: every eigenvalue is q.
+        return Roots {
+            smallest: q,
+            q,
+            p: None,
+            x: 0.0,
+        };
     }
     let p = (p2 * (1.0 / 6.0)).sqrt();
     let det =
@@ -131,9 +167,12 @@ fn extreme_eigenvalues(a: [[f64; 3]; 3]) -> (f64, f64) {
             x -= 2.0 * g * slope / denominator;
         }
     }
-    // The other two roots solve y² + x·y + x² - 3 = 0.
-    let largest = -0.5 * x + (3.0 - 0.75 * x * x).max(0.0).sqrt();
-    (q + p * x, q + p * largest)
+    Roots {
+        smallest: q + p * x,
+        q,
+        p: Some(p),
+        x,
+    }
 }
 
 /// The unit eigenvector for a simple eigenvalue: the longest cross product of two rows of
@@ -144,13 +183,20 @@ fn eigenvector(a: [[f64; 3]; 3], lambda: f64) -> Option<[f64; 3]> {
         row[i] -= lambda;
     }
     let candidates = [cross(r[0], r[1]), cross(r[0], r[2]), cross(r[1], r[2])];
-    let best = candidates
-        .into_iter()
-        .max_by(|u, v| dot(*u, *u).total_cmp(&dot(*v, *v)))?;
-    if dot(best, best) <= 1e-20 {
+    let lengths2 = candidates.map(|c| dot(c, c));
+    // The last of the longest, as `Iterator::max_by` picks it.
+    let mut best = 0;
+    for i in 1..3 {
+        if lengths2[best].total_cmp(&lengths2[i]).is_le() {
+            best = i;
+        }
+    }
+    if lengths2[best] <= 1e-20 {
         return None;
     }
-    normalized(best)
+    // `normalized`, with the squared length already at hand.
+    let norm = lengths2[best].sqrt();
+    (norm > 0.0 && norm.is_finite()).then(|| candidates[best].map(|c| c / norm))
 }
 
 /// Cross product.

@@ -135,19 +135,25 @@ impl GridDbscan {
             if self.core_count[cell] == 0 {
                 continue;
             }
-            for i in self.near_start[cell] as usize..self.near_start[cell + 1] as usize {
+            // Each pair once: the cells after this one (a clique cell's core points are
+            // joined already), or from this one on. The list is ascending.
+            let near = self.near_start[cell] as usize..self.near_start[cell + 1] as usize;
+            let first = near.start
+                + self.near[near.clone()]
+                    .partition_point(|&other| other < cell as u32 + u32::from(self.clique));
+            // The set of this cell, looked up again only after a union.
+            let mut root = self.union.find(cell as u32);
+            for i in first..near.end {
                 let other = self.near[i] as usize;
                 if self.clique {
-                    if other <= cell
-                        || self.core_count[other] == 0
-                        || self.union.find(cell as u32) == self.union.find(other as u32)
-                    {
+                    if self.core_count[other] == 0 || root == self.union.find(other as u32) {
                         continue;
                     }
                     if self.cells_touch(cell, other, params) {
                         self.union.union(cell as u32, other as u32);
+                        root = self.union.find(cell as u32);
                     }
-                } else if other >= cell {
+                } else {
                     self.join_pairs(cell, other, params);
                 }
             }
@@ -172,6 +178,10 @@ impl GridDbscan {
         let reach2 = params.eps2 * (1.0 + 1e-9);
         if box_gap2(box_a, box_b) > reach2 {
             return false;
+        }
+        if box_span2(box_a, box_b) <= params.eps2 {
+            // Every pair is within eps.
+            return true;
         }
         let xyz = self.grid.xyz();
         let pa = &xyz[self.core_range(a)];
@@ -199,18 +209,22 @@ impl GridDbscan {
         };
         let grid = &self.grid;
         let core_count = &self.core_count;
-        let clique = self.clique;
-        self.numbering.number(
-            &mut self.union,
-            elements,
-            (0..grid.cell_count()).flat_map(|cell| {
-                let start = grid.cell_range(cell).start;
-                (start..start + core_count[cell] as usize).map(move |k| {
-                    let element = if clique { cell } else { k };
-                    (element as u32, order[k])
-                })
-            }),
-        );
+        let core_range = |cell: usize| {
+            let start = grid.cell_range(cell).start;
+            start..start + core_count[cell] as usize
+        };
+        if self.clique {
+            // One element per cell: its lowest core index is all the numbering needs.
+            let cells = (0..grid.cell_count()).filter_map(|cell| {
+                let lowest = order[core_range(cell)].iter().min()?;
+                Some((cell as u32, *lowest))
+            });
+            self.numbering.number(&mut self.union, elements, cells);
+        } else {
+            let points = (0..grid.cell_count())
+                .flat_map(|cell| core_range(cell).map(|k| (k as u32, order[k])));
+            self.numbering.number(&mut self.union, elements, points);
+        }
     }
 
     /// Phase 4: every point's cluster; border points take the lowest-numbered cluster among
@@ -219,9 +233,16 @@ impl GridDbscan {
         self.label.clear();
         self.label.resize(self.grid.order().len(), NOISE);
         for cell in 0..self.grid.cell_count() {
-            for k in self.core_range(cell) {
-                let element = if self.clique { cell } else { k };
-                self.label[k] = self.numbering.label(&mut self.union, element as u32);
+            let cores = self.core_range(cell);
+            if self.clique {
+                if !cores.is_empty() {
+                    let label = self.numbering.label(&mut self.union, cell as u32);
+                    self.label[cores].fill(label);
+                }
+            } else {
+                for k in cores {
+                    self.label[k] = self.numbering.label(&mut self.union, k as u32);
+                }
             }
         }
         let xyz = self.grid.xyz();
@@ -292,6 +313,19 @@ fn bounding_box(points: &[[f32; 3]]) -> Box3 {
         }
     }
     b
+}
+
+/// Squared distance between the farthest corners of two boxes, computed as [`dist2`]
+/// computes it: never less than the squared distance it computes between a point of one and
+/// a point of the other (rounding is monotonic).
+fn box_span2(a: Box3, b: Box3) -> f64 {
+    let mut d2 = 0.0;
+    for axis in 0..3 {
+        let span =
+            (b[1][axis] as f64 - a[0][axis] as f64).max(a[1][axis] as f64 - b[0][axis] as f64);
+        d2 += span * span;
+    }
+    d2
 }
 
 /// Squared gap between two boxes (0 when they overlap): never more than the squared distance
