@@ -205,11 +205,18 @@ impl OccupancyMap {
         let cells = &mut self.ground_cells;
         cells.clear();
         let per_cell = 1.0 / self.config.ground_ray_cell;
+        // Consecutive points of a scan mostly share a cell, which the set then already holds:
+        // only a change of cell needs the set.
+        let mut last = None;
         for p in ground.iter().filter(|p| p.is_finite()) {
             let cell = [
                 floor_i32(f64::from(p.x) * per_cell),
                 floor_i32(f64::from(p.y) * per_cell),
             ];
+            if last == Some(cell) {
+                continue;
+            }
+            last = Some(cell);
             if cells.insert(cell) {
                 ends.push(Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
             }
