@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use crate::Point;
 pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
-use key::{block_key, floor_i32, local_index, voxel_key};
+use key::{block_key, floor_i32, in_cell, local_index, voxel_key};
 use ray::VoxelWalk;
 pub use scan::OccupancyScan;
 use window::BlockWindow;
@@ -206,13 +206,14 @@ impl OccupancyMap {
         cells.clear();
         let per_cell = 1.0 / self.config.ground_ray_cell;
         // Consecutive points of a scan mostly share a cell, which the set then already holds:
-        // only a change of cell needs the set.
-        let mut last = None;
+        // only a change of cell needs the set (or the cell's floors).
+        let mut last: Option<[i32; 2]> = None;
         for p in ground.iter().filter(|p| p.is_finite()) {
-            let cell = [
-                floor_i32(f64::from(p.x) * per_cell),
-                floor_i32(f64::from(p.y) * per_cell),
-            ];
+            let (x, y) = (f64::from(p.x) * per_cell, f64::from(p.y) * per_cell);
+            if last.is_some_and(|[cx, cy]| in_cell(x, cx) && in_cell(y, cy)) {
+                continue;
+            }
+            let cell = [floor_i32(x), floor_i32(y)];
             if last == Some(cell) {
                 continue;
             }
@@ -250,15 +251,19 @@ impl OccupancyMap {
     fn reserve_hits(&mut self, obstacles: &[Point], hits: &mut Vec<Hit>) {
         hits.clear();
         let (scan, inverse_resolution) = (self.scan, 1.0 / self.config.resolution);
-        // Consecutive points of a scan mostly share a block: look it up once.
+        // Consecutive points of a scan mostly share a block: look it up once. Many share the
+        // voxel too, which the previous point has marked already: skip them.
         let mut last: Option<([i32; 3], u32)> = None;
+        let mut last_voxel: Option<[i32; 3]> = None;
         for p in obstacles.iter().filter(|p| p.is_finite()) {
-            let key = voxel_key(
-                f64::from(p.x),
-                f64::from(p.y),
-                f64::from(p.z),
-                inverse_resolution,
-            );
+            let [x, y, z] = [p.x, p.y, p.z].map(|v| f64::from(v) * inverse_resolution);
+            if last_voxel
+                .is_some_and(|[kx, ky, kz]| in_cell(x, kx) && in_cell(y, ky) && in_cell(z, kz))
+            {
+                continue;
+            }
+            let key = [floor_i32(x), floor_i32(y), floor_i32(z)];
+            last_voxel = Some(key);
             let bkey = block_key(key);
             let block = match last {
                 Some((k, b)) if k == bkey => b,
