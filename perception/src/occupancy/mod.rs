@@ -24,7 +24,7 @@ use crate::Point;
 pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
 use key::{block_key, floor_i32, in_cell, local_index, voxel_key};
-use ray::VoxelWalk;
+use ray::{VoxelWalk, WalkTarget};
 pub use scan::OccupancyScan;
 use window::BlockWindow;
 
@@ -177,8 +177,9 @@ impl OccupancyMap {
         order::by_azimuth(&sensor, &ends, &mut self.sector_counts, &mut ordered);
         self.reset_window(&sensor, &ordered);
         let max_range = self.config.max_ray_range;
+        let target = WalkTarget::new(sensor / res);
         for end in &ordered {
-            self.clear_ray(&sensor, end, max_range);
+            self.clear_ray(&sensor, &target, end, max_range);
         }
         self.ray_ends = ends;
         self.ordered_ends = ordered;
@@ -385,7 +386,7 @@ impl OccupancyMap {
     }
 
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
-    /// (the end voxel excluded), at most once per scan. Blocks the map does not hold are
+    /// (the end voxel excluded), at most once per scan. `target` is `from` in voxel units. Blocks the map does not hold are
     /// jumped over whole.
     ///
     /// The ray is walked backwards, from its end towards the sensor, and stops once
@@ -393,7 +394,13 @@ impl OccupancyMap {
     /// integrator does the same): the rays that touched them go on to the same sensor, so what
     /// is left of this one runs alongside them, converging. Voxels near the sensor are crossed
     /// by thousands of rays; this way they are walked a few times, not thousands.
-    fn clear_ray(&mut self, from: &Vector3<f64>, to: &Vector3<f64>, max_range: f64) {
+    fn clear_ray(
+        &mut self,
+        from: &Vector3<f64>,
+        target: &WalkTarget,
+        to: &Vector3<f64>,
+        max_range: f64,
+    ) {
         let (scan, log_miss, log_min) = (self.scan, self.log_miss, self.log_min);
         let delta = to - from;
         let length = delta.norm();
@@ -404,7 +411,7 @@ impl OccupancyMap {
             *to
         };
         let res = self.config.resolution;
-        let mut walk = VoxelWalk::new(end / res, from / res);
+        let mut walk = VoxelWalk::new(end / res, target);
         if !clipped {
             // The end's voxel is a hit, or the ground the ray ends on.
             walk.skip_voxel();
