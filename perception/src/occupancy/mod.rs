@@ -23,8 +23,8 @@ use serde::{Deserialize, Serialize};
 use crate::Point;
 pub use bev::{BevCell, BevGrid};
 use block::{BLOCK_SIDE, Block, Voxel};
-use key::{block_key, floor_i32, local_index, voxel_key};
-use ray::VoxelWalk;
+use key::{block_key, floor_i32, in_cell, local_index, voxel_key};
+use ray::{VoxelWalk, WalkTarget};
 pub use scan::OccupancyScan;
 use window::BlockWindow;
 
@@ -177,8 +177,9 @@ impl OccupancyMap {
         order::by_azimuth(&sensor, &ends, &mut self.sector_counts, &mut ordered);
         self.reset_window(&sensor, &ordered);
         let max_range = self.config.max_ray_range;
+        let target = WalkTarget::new(sensor / res);
         for end in &ordered {
-            self.clear_ray(&sensor, end, max_range);
+            self.clear_ray(&sensor, &target, end, max_range);
         }
         self.ray_ends = ends;
         self.ordered_ends = ordered;
@@ -205,11 +206,19 @@ impl OccupancyMap {
         let cells = &mut self.ground_cells;
         cells.clear();
         let per_cell = 1.0 / self.config.ground_ray_cell;
+        // Consecutive points of a scan mostly share a cell, which the set then already holds:
+        // only a change of cell needs the set (or the cell's floors).
+        let mut last: Option<[i32; 2]> = None;
         for p in ground.iter().filter(|p| p.is_finite()) {
-            let cell = [
-                floor_i32(f64::from(p.x) * per_cell),
-                floor_i32(f64::from(p.y) * per_cell),
-            ];
+            let (x, y) = (f64::from(p.x) * per_cell, f64::from(p.y) * per_cell);
+            if last.is_some_and(|[cx, cy]| in_cell(x, cx) && in_cell(y, cy)) {
+                continue;
+            }
+            let cell = [floor_i32(x), floor_i32(y)];
+            if last == Some(cell) {
+                continue;
+            }
+            last = Some(cell);
             if cells.insert(cell) {
                 ends.push(Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));
             }
@@ -243,15 +252,19 @@ impl OccupancyMap {
     fn reserve_hits(&mut self, obstacles: &[Point], hits: &mut Vec<Hit>) {
         hits.clear();
         let (scan, inverse_resolution) = (self.scan, 1.0 / self.config.resolution);
-        // Consecutive points of a scan mostly share a block: look it up once.
+        // Consecutive points of a scan mostly share a block: look it up once. Many share the
+        // voxel too, which the previous point has marked already: skip them.
         let mut last: Option<([i32; 3], u32)> = None;
+        let mut last_voxel: Option<[i32; 3]> = None;
         for p in obstacles.iter().filter(|p| p.is_finite()) {
-            let key = voxel_key(
-                f64::from(p.x),
-                f64::from(p.y),
-                f64::from(p.z),
-                inverse_resolution,
-            );
+            let [x, y, z] = [p.x, p.y, p.z].map(|v| f64::from(v) * inverse_resolution);
+            if last_voxel
+                .is_some_and(|[kx, ky, kz]| in_cell(x, kx) && in_cell(y, ky) && in_cell(z, kz))
+            {
+                continue;
+            }
+            let key = [floor_i32(x), floor_i32(y), floor_i32(z)];
+            last_voxel = Some(key);
             let bkey = block_key(key);
             let block = match last {
                 Some((k, b)) if k == bkey => b,
@@ -373,7 +386,7 @@ impl OccupancyMap {
     }
 
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
-    /// (the end voxel excluded), at most once per scan. Blocks the map does not hold are
+    /// (the end voxel excluded), at most once per scan. `target` is `from` in voxel units. Blocks the map does not hold are
     /// jumped over whole.
     ///
     /// The ray is walked backwards, from its end towards the sensor, and stops once
@@ -381,7 +394,13 @@ impl OccupancyMap {
     /// integrator does the same): the rays that touched them go on to the same sensor, so what
     /// is left of this one runs alongside them, converging. Voxels near the sensor are crossed
     /// by thousands of rays; this way they are walked a few times, not thousands.
-    fn clear_ray(&mut self, from: &Vector3<f64>, to: &Vector3<f64>, max_range: f64) {
+    fn clear_ray(
+        &mut self,
+        from: &Vector3<f64>,
+        target: &WalkTarget,
+        to: &Vector3<f64>,
+        max_range: f64,
+    ) {
         let (scan, log_miss, log_min) = (self.scan, self.log_miss, self.log_min);
         let delta = to - from;
         let length = delta.norm();
@@ -392,7 +411,7 @@ impl OccupancyMap {
             *to
         };
         let res = self.config.resolution;
-        let mut walk = VoxelWalk::new(end / res, from / res);
+        let mut walk = VoxelWalk::new(end / res, target);
         if !clipped {
             // The end's voxel is a hit, or the ground the ray ends on.
             walk.skip_voxel();

@@ -27,11 +27,26 @@ pub(super) struct VoxelWalk {
     remaining: u32,
 }
 
+/// Where walks go (in voxel units) and the voxel holding it, found once for the many walks to
+/// the same point.
+pub(super) struct WalkTarget {
+    point: Vector3<f64>,
+    voxel: [i32; 3],
+}
+
+impl WalkTarget {
+    /// The target `point`.
+    pub fn new(point: Vector3<f64>) -> Self {
+        let voxel = [floor_i32(point.x), floor_i32(point.y), floor_i32(point.z)];
+        Self { point, voxel }
+    }
+}
+
 impl VoxelWalk {
     /// A walk from the voxel holding `from` towards the voxel holding `to`.
-    pub fn new(from: Vector3<f64>, to: Vector3<f64>) -> Self {
+    pub fn new(from: Vector3<f64>, to: &WalkTarget) -> Self {
         let key = [floor_i32(from.x), floor_i32(from.y), floor_i32(from.z)];
-        let end = [floor_i32(to.x), floor_i32(to.y), floor_i32(to.z)];
+        let (end, to) = (to.voxel, to.point);
         let dir = to - from;
         let mut step = [0i32; 3];
         let mut t_first = [f64::INFINITY; 3];
@@ -212,7 +227,7 @@ mod tests {
     /// The plain voxel-by-voxel walk.
     fn walk(from: [f64; 3], to: [f64; 3]) -> Vec<[i32; 3]> {
         let mut cells = Vec::new();
-        let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
+        let mut w = VoxelWalk::new(Vector3::from(from), &WalkTarget::new(Vector3::from(to)));
         while let Some(k) = w.current() {
             cells.push(k);
             w.skip_voxel();
@@ -236,7 +251,7 @@ mod tests {
     ) -> Vec<[i32; 3]> {
         let side = BLOCK_SIDE as i32;
         let mut cells = Vec::new();
-        let mut w = VoxelWalk::new(Vector3::from(from), Vector3::from(to));
+        let mut w = VoxelWalk::new(Vector3::from(from), &WalkTarget::new(Vector3::from(to)));
         while let Some(k) = w.current() {
             if skip(k.map(|v| v.div_euclid(side))) {
                 w.leave_block();
