@@ -386,8 +386,8 @@ impl OccupancyMap {
     }
 
     /// One miss for every voxel of an existing block crossed on the way from `from` to `to`
-    /// (the end voxel excluded), at most once per scan. `target` is `from` in voxel units. Blocks the map does not hold are
-    /// jumped over whole.
+    /// (the end voxel excluded), at most once per scan. `target` is `from` in voxel units.
+    /// Blocks the map does not hold are jumped over whole.
     ///
     /// The ray is walked backwards, from its end towards the sensor, and stops once
     /// `ray_stop_after` voxels in a row were already touched by this scan (Voxblox's fast
