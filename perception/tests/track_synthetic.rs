@@ -182,7 +182,7 @@ fn a_highway_car_is_reported_from_its_first_scan() {
 
 #[test]
 fn two_cyclists_side_by_side_never_swap() {
-    // Riders 1 m apart (centre to centre), then closing to 0.9 m, riding together.
+    // Riders 1 m apart (centre to centre), closing to 0.6 m by the last scan, riding together.
     let a = cyclist((6.0, 1.0), (5.0, 0.0));
     let b = cyclist((6.0, 2.0), (5.0, -0.1));
     let out = run(TrackConfig::default(), &[a, b], 40, |_, _| true);

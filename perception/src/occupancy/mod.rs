@@ -215,9 +215,6 @@ impl OccupancyMap {
                 continue;
             }
             let cell = [floor_i32(x), floor_i32(y)];
-            if last == Some(cell) {
-                continue;
-            }
             last = Some(cell);
             if cells.insert(cell) {
                 ends.push(Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)));

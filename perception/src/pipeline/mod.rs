@@ -4,7 +4,8 @@
 //!
 //! It comes in two halves: [`Segmentation`] (pose to DBSCAN, the clusters gathered and
 //! described by their VFH) reads nothing the tracker writes, and [`Tracking`] (clusters split
-//! among the tracks that claim them, tracking, occupancy, super frames) takes what it made. [`Pipeline`] runs one after the other; `trackd run` runs them on two threads, the next
+//! among the tracks that claim them, tracking, occupancy, super frames) takes what it made.
+//! [`Pipeline`] runs one after the other; `trackd run` runs them on two threads, the next
 //! scan's segmentation overlapping this one's tracking.
 
 mod gather;
