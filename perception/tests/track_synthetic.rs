@@ -278,3 +278,64 @@ fn every_association_mode_tracks_a_lone_car() {
         assert_eq!(ids.len(), 1, "{mode:?}");
     }
 }
+
+fn pedestrian(start: (f64, f64)) -> Body {
+    Body {
+        start: Vector2::new(start.0, start.1),
+        velocity: Vector2::zeros(),
+        size: Vector3::new(0.6, 0.5, 1.75),
+        rider: false,
+    }
+}
+
+/// The ids reported near `a` in scans `before` and near `b` in scan `after`.
+fn ids_near(out: &[Reported], a: &Body, before: usize, b: &Body, after: usize) -> (u64, u64) {
+    let (first, class, _) = near(&out[before], a.center(0.0)).expect("first person reported");
+    assert_eq!(class, ObjectClass::Pedestrian);
+    let (second, _, _) = near(&out[after], b.center(0.0)).expect("second person reported");
+    (first, second)
+}
+
+#[test]
+fn a_coasting_pedestrian_track_does_not_jump_to_a_person_metres_away() {
+    // One person 35 m away stands for 5 scans and is then hidden; a second one steps out
+    // 3.2 m away half a second later, inside the gate the first track's coasting has grown.
+    let (a, b) = (pedestrian((35.0, 3.0)), pedestrian((35.0, 6.2)));
+    let visible = |k: usize, i: usize| if i == 0 { k < 5 } else { k >= 10 };
+    let out = run(TrackConfig::default(), &[a, b], 15, visible);
+    let (first, second) = ids_near(&out, &a, 4, &b, 14);
+    assert_ne!(
+        first, second,
+        "the second person took the first one's track"
+    );
+    // Without the bound on a person's speed, the motion gate alone lets the track jump.
+    let mut config = TrackConfig::default();
+    config.motion.pedestrian_max_speed = f64::INFINITY;
+    let out = run(config, &[a, b], 15, visible);
+    let (first, second) = ids_near(&out, &a, 4, &b, 14);
+    assert_eq!(
+        first, second,
+        "the gate alone no longer lets the track jump"
+    );
+}
+
+#[test]
+fn a_parked_car_hidden_until_its_track_is_dropped_gets_its_id_back() {
+    // Seen for a second, hidden for three (the track is dropped), then seen again.
+    let parked = car((15.0, -6.0), (0.0, 0.0));
+    let visible = |k: usize, _: usize| !(10..40).contains(&k);
+    let out = run(TrackConfig::default(), &[parked], 45, visible);
+    let before = near(&out[9], parked.center(0.0)).expect("seen").0;
+    let after = near(&out[44], parked.center(0.0)).expect("seen again").0;
+    assert_eq!(before, after, "a new id for the same parked car");
+    // Without the memory the returning car is a new track: the first one was dropped.
+    let mut config = TrackConfig::default();
+    config.dormant.memory = 0.0;
+    let out = run(config, &[parked], 45, visible);
+    let before = near(&out[9], parked.center(0.0)).expect("seen").0;
+    let after = near(&out[44], parked.center(0.0)).expect("seen again").0;
+    assert_ne!(
+        before, after,
+        "the track survived the occlusion: nothing was remembered"
+    );
+}

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::classify::ClassifyConfig;
 use super::confidence::ConfidenceConfig;
+use super::dormant::DormantConfig;
 use super::motion::{MeasurementNoise, ProcessNoise};
 
 /// How clusters are associated with tracks: the paper's Algorithm 1 step by step, then what a
@@ -85,6 +86,11 @@ pub struct MotionConfig {
     pub birth_velocity_sigma_cyclist: f64,
     /// ... of a pedestrian-sized or unidentified cluster. Default 2.5.
     pub birth_velocity_sigma_pedestrian: f64,
+    /// A pedestrian track takes no view farther from where it was last seen than this speed
+    /// (m/s) allows since then... Default 3 (a jog; walking is 1-2).
+    pub pedestrian_max_speed: f64,
+    /// ...plus this much (m) for the error of the two box centres. Default 1.
+    pub pedestrian_reach_margin: f64,
     /// A track faster than this (m/s), and known to be, is headed along its velocity.
     /// Default 1.5.
     pub heading_from_velocity_speed: f64,
@@ -103,6 +109,8 @@ impl Default for MotionConfig {
             birth_velocity_sigma_car: 15.0,
             birth_velocity_sigma_cyclist: 6.0,
             birth_velocity_sigma_pedestrian: 2.5,
+            pedestrian_max_speed: 3.0,
+            pedestrian_reach_margin: 1.0,
             heading_from_velocity_speed: 1.5,
         }
     }
@@ -138,6 +146,8 @@ pub struct TrackConfig {
     pub motion: MotionConfig,
     /// Confidence decay.
     pub confidence: ConfidenceConfig,
+    /// Ids of dropped static objects, given back when they are seen again.
+    pub dormant: DormantConfig,
     /// Identification of objects and structure.
     pub classify: ClassifyConfig,
     /// Matches needed before a track is reported (M of "birth after M hits"). Default 1: an
@@ -162,6 +172,7 @@ impl Default for TrackConfig {
             association: AssociationConfig::default(),
             motion: MotionConfig::default(),
             confidence: ConfidenceConfig::default(),
+            dormant: DormantConfig::default(),
             classify: ClassifyConfig::default(),
             birth_hits: 1,
             report_coasting_scans: 2,

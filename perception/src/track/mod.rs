@@ -9,6 +9,7 @@ pub mod box_fit;
 pub mod classify;
 pub mod confidence;
 pub mod config;
+pub mod dormant;
 pub mod fragments;
 pub mod ground;
 pub mod motion;

@@ -11,6 +11,7 @@ use super::association::{PairScore, TrackPairs, associate};
 use super::box_fit::{length_heading, place_box};
 use super::classify::{ClassVotes, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape};
 use super::config::{AssociationMode, TrackConfig};
+use super::dormant::DormantTracks;
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
 use super::observation::{Observation, Observer};
@@ -112,6 +113,8 @@ pub struct Track {
     probe_time: f64,
     heading_flips: u32,
     cluster: Option<usize>,
+    /// Where the box centre was put by the last matched view, and when (s).
+    last_seen: (Vector2<f64>, f64),
 }
 
 impl Track {
@@ -197,6 +200,7 @@ pub struct Tracker {
     config: TrackConfig,
     tracks: Vec<Track>,
     next_id: u64,
+    dormant: DormantTracks,
     time: Option<f64>,
     observations: Vec<Observation>,
     pairs: Vec<TrackPairs>,
@@ -208,6 +212,7 @@ impl Tracker {
     /// A tracker without tracks.
     pub fn new(config: TrackConfig) -> Self {
         Self {
+            dormant: DormantTracks::new(config.dormant.clone()),
             config,
             tracks: Vec::new(),
             next_id: 1,
@@ -320,6 +325,13 @@ impl Tracker {
             }
         }
         let confidence = &self.config.confidence;
+        self.dormant.expire(scan.timestamp);
+        for t in &self.tracks {
+            let remembered = t.hits >= CONFIRMED_HITS && !t.moving && t.identity().is_some();
+            if remembered && confidence.is_lost(t.confidence) {
+                self.dormant.remember(t.id, t.last_seen.0, scan.timestamp);
+            }
+        }
         self.tracks.retain(|t| !confidence.is_lost(t.confidence));
         for (j, cluster) in clusters.iter().enumerate() {
             if !self.taken[j] && self.may_be_born(j) {
@@ -357,7 +369,9 @@ impl Tracker {
                 }
                 let center = measured_center(t, o, scan, &self.config);
                 let mahalanobis2 = predicted.mahalanobis_squared(&center.xy());
-                if gated && mahalanobis2 > gate {
+                if gated
+                    && (mahalanobis2 > gate || beyond_reach(t, &center.xy(), scan, &self.config))
+                {
                     continue;
                 }
                 pairs.pairs.push(PairScore {
@@ -415,6 +429,7 @@ impl Tracker {
         t.hits += 1;
         t.misses = 0;
         t.cluster = Some(j);
+        t.last_seen = (t.motion.position().xy(), scan.timestamp);
         t.car_top = (t.car_top - TOP_SINK).max(car_top(o));
         t.person_width = (t.person_width - WIDTH_SINK).max(person_width(o));
         t.votes.add(
@@ -473,8 +488,17 @@ impl Tracker {
         let range = (o.centroid - scan.sensor()).xy().norm();
         let mut votes = ClassVotes::default();
         votes.add(o.verdict, config.classify.vote_memory);
+        // A static object seen again where its dropped track left it gets its id back.
+        let returning = match o.verdict {
+            ShapeVerdict::Structure(_) => None,
+            _ => self.dormant.claim(center.xy()),
+        };
+        let id = returning.unwrap_or_else(|| {
+            self.next_id += 1;
+            self.next_id - 1
+        });
         self.tracks.push(Track {
-            id: self.next_id,
+            id,
             motion: MotionModel::new(center, heading, &m.measurement_noise(range), velocity_sigma),
             size,
             vfh: *cluster.vfh,
@@ -492,13 +516,13 @@ impl Tracker {
             probe_time: scan.timestamp,
             heading_flips: 0,
             cluster: Some(j),
+            last_seen: (center.xy(), scan.timestamp),
         });
         if let Some(t) = self.tracks.last_mut() {
             judge_motion(t, cluster.points, false, scan, config);
             t.settle_identity();
             trace_view("birth", t, o);
         }
-        self.next_id += 1;
     }
 }
 
@@ -675,6 +699,24 @@ fn measured_center(
     let heading = box_heading(t, o, config);
     let xy = place_box(&o.corners(), heading, t.size.xy(), &scan.sensor().xy());
     Vector3::new(xy.x, xy.y, o.ground_z + t.size.z / 2.0)
+}
+
+/// Whether a view centred at `center` lies farther from where a pedestrian track was last
+/// seen than a person walks or runs since then: however wide the motion model's gate has
+/// grown while the track coasted, it does not take a person metres away.
+fn beyond_reach(
+    t: &Track,
+    center: &Vector2<f64>,
+    scan: &ScanContext<'_>,
+    config: &TrackConfig,
+) -> bool {
+    if t.identity() != Some(ObjectClass::Pedestrian) {
+        return false;
+    }
+    let (at, when) = t.last_seen;
+    let elapsed = (scan.timestamp - when).max(0.0);
+    let m = &config.motion;
+    (center - at).norm() > m.pedestrian_max_speed * elapsed + m.pedestrian_reach_margin
 }
 
 /// Whether `p` lies within `margin` of the track's current box.

@@ -1,0 +1,118 @@
+//! Ids of static objects whose tracks were dropped, kept for a while so that the object gets
+//! its id back when it is seen again.
+//!
+//! A parked car or a standing person hidden for a few seconds (a bus passes, the sensor drives
+//! past a hedge) loses its track to the confidence decay. It has not moved in the world frame:
+//! a track born near where it was last seen, soon after, is that object again.
+//! Moving objects are not remembered: after seconds unseen, where they are is a guess.
+
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+/// How long and how near a dropped static object is recognised.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DormantConfig {
+    /// Seconds a dropped static object's id is kept (0 turns the memory off). Default 5.
+    pub memory: f64,
+    /// Largest distance (m) between where it was last seen and a new track's box centre: a
+    /// partial view moves a car's box centre by up to a metre. Default 1.5.
+    pub radius: f64,
+}
+
+impl Default for DormantConfig {
+    fn default() -> Self {
+        Self {
+            memory: 5.0,
+            radius: 1.5,
+        }
+    }
+}
+
+/// One remembered object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Dormant {
+    id: u64,
+    position: Vector2<f64>,
+    /// Time (s) after which it is forgotten.
+    until: f64,
+}
+
+/// The remembered objects.
+#[derive(Clone, Debug, Default)]
+pub struct DormantTracks {
+    config: DormantConfig,
+    remembered: Vec<Dormant>,
+}
+
+impl DormantTracks {
+    /// An empty memory with `config`.
+    pub fn new(config: DormantConfig) -> Self {
+        Self {
+            config,
+            remembered: Vec::new(),
+        }
+    }
+
+    /// Remembers object `id`, last seen at `position` (world frame) at time `now`.
+    pub fn remember(&mut self, id: u64, position: Vector2<f64>, now: f64) {
+        if self.config.memory > 0.0 {
+            self.remembered.push(Dormant {
+                id,
+                position,
+                until: now + self.config.memory,
+            });
+        }
+    }
+
+    /// Forgets what was dropped more than the memory's length before `now`.
+    pub fn expire(&mut self, now: f64) {
+        self.remembered.retain(|d| d.until >= now);
+    }
+
+    /// The id of the nearest remembered object within the radius of `position`, forgotten
+    /// now that it is claimed.
+    pub fn claim(&mut self, position: Vector2<f64>) -> Option<u64> {
+        let radius = self.config.radius;
+        let (k, _) = self
+            .remembered
+            .iter()
+            .map(|d| (d.position - position).norm())
+            .enumerate()
+            .filter(|&(_, distance)| distance <= radius)
+            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        Some(self.remembered.swap_remove(k).id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_nearest_object_within_the_radius_is_claimed_once_until_forgotten() {
+        let mut memory = DormantTracks::new(DormantConfig::default());
+        memory.remember(7, Vector2::new(10.0, 2.0), 1.0);
+        memory.remember(9, Vector2::new(10.0, 3.2), 1.5);
+        assert_eq!(memory.claim(Vector2::new(20.0, 2.0)), None);
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), Some(7));
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), Some(9));
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), None);
+        memory.remember(11, Vector2::new(0.0, 0.0), 2.0);
+        memory.expire(6.9);
+        assert_eq!(memory.claim(Vector2::new(0.5, 0.0)), Some(11));
+        memory.remember(12, Vector2::new(0.0, 0.0), 2.0);
+        memory.expire(7.1);
+        assert_eq!(memory.claim(Vector2::new(0.0, 0.0)), None);
+    }
+
+    #[test]
+    fn no_memory_remembers_nothing() {
+        let mut memory = DormantTracks::new(DormantConfig {
+            memory: 0.0,
+            radius: 1.0,
+        });
+        memory.remember(1, Vector2::zeros(), 0.0);
+        assert_eq!(memory.claim(Vector2::zeros()), None);
+    }
+}
