@@ -387,6 +387,9 @@ impl GroundRemoval {
         self.range_of.clear();
         self.range_of.resize(points.len(), 0.0);
         let mut bounds = self.bounds;
+        // Points come ring by ring and azimuth by azimuth, so a zone's points come in runs:
+        // counted in a register and added once a run ends, not one memory increment each.
+        let (mut run_zone, mut run) = (0usize, 0u32);
         let inner = &rings[..rings.len() - 1];
         let mut chunk = ZoneChunk::default();
         let slots = self
@@ -413,9 +416,14 @@ impl GroundRemoval {
                 let zone = self.first_zone[ring] + sector;
                 zone_of[k] = zone as u32;
                 range_of[k] = chunk.range[k];
-                self.zone_start[zone + 1] += 1;
+                if zone != run_zone {
+                    self.zone_start[run_zone + 1] += run;
+                    (run_zone, run) = (zone, 0);
+                }
+                run += 1;
             }
         }
+        self.zone_start[run_zone + 1] += run;
         self.bounds = bounds;
         for z in 0..zones {
             self.zone_start[z + 1] += self.zone_start[z];

@@ -8,6 +8,10 @@
 //! distances to a whole leaf are computed in one fixed-length loop the compiler turns into
 //! SIMD; the candidates are then offered one by one in the leaf's order, exactly as a plain
 //! point-by-point scan would offer them.
+//!
+//! The leaf scan's helpers are always inlined into the search: left to the compiler, whether
+//! they were depended on unrelated code elsewhere in the crate, and the VFH stage of `trackd
+//! bench` took 5.3 ms instead of 4.6 when they were not.
 
 /// Most points in a leaf, and the slots of a leaf's coordinate block.
 const LEAF: usize = 12;
@@ -23,7 +27,7 @@ struct LeafBlock {
 impl LeafBlock {
     /// Squared distances `dx² + dy² + dz²` (in `f32`, summed in that order) from `query` to
     /// every slot.
-    #[inline]
+    #[inline(always)]
     fn dist2(&self, query: [f32; 3]) -> [f32; LEAF] {
         let mut d2 = [0.0f32; LEAF];
         for (j, out) in d2.iter_mut().enumerate() {
@@ -186,7 +190,7 @@ impl KnnTree {
     }
 
     /// Keeps (d2, position) if it is among the k best so far.
-    #[inline]
+    #[inline(always)]
     fn offer(&mut self, d2: f32, position: u32, k: usize) {
         if self.best.len() < k {
             self.best.push((d2, position));
@@ -200,7 +204,7 @@ impl KnnTree {
     }
 
     /// Locates the farthest of the k best (they are kept unordered).
-    #[inline]
+    #[inline(always)]
     fn find_worst(&mut self) {
         let (mut at, mut worst) = (0, self.best[0].0);
         for (i, &(d2, _)) in self.best.iter().enumerate().skip(1) {
