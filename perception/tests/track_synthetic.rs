@@ -339,3 +339,20 @@ fn a_parked_car_hidden_until_its_track_is_dropped_gets_its_id_back() {
         "the track survived the occlusion: nothing was remembered"
     );
 }
+
+#[test]
+fn a_person_stepping_up_beside_a_tracked_person_is_a_second_track() {
+    // The second person stops 0.7 m beside the first (centre to centre), inside the first
+    // track's box and margin: not a fragment of it, but another person.
+    let (a, b) = (pedestrian((10.0, 2.0)), pedestrian((10.0, 2.7)));
+    let out = run(TrackConfig::default(), &[a, b], 12, |k, i| i == 0 || k >= 5);
+    for (k, reported) in out.iter().enumerate().skip(7) {
+        let (first, _, _) = near(reported, a.center(0.0)).expect("first person reported");
+        let second = reported
+            .iter()
+            .find(|(_, _, c)| (c.xy() - b.center(0.0)).norm() < 0.3)
+            .unwrap_or_else(|| panic!("scan {k}: second person not reported: {reported:?}"));
+        assert_ne!(first, second.0);
+        assert_eq!(second.1, ObjectClass::Pedestrian);
+    }
+}

@@ -452,10 +452,15 @@ impl Tracker {
             return false;
         }
         let c = o.rect.center;
-        !self
-            .tracks
-            .iter()
-            .any(|t| t.hits >= self.config.birth_hits && inside_box(t, &c, FRAGMENT_MARGIN))
+        // A person is not split into person-shaped parts (stacked ones were joined already): a
+        // sure person beside a person's track is another person.
+        let sure_person = |class| class == ObjectClass::Pedestrian;
+        let person_view = matches!(o.verdict, ShapeVerdict::Object(class) if sure_person(class));
+        !self.tracks.iter().any(|t| {
+            t.hits >= self.config.birth_hits
+                && !(person_view && t.identity().is_some_and(sure_person))
+                && inside_box(t, &c, FRAGMENT_MARGIN)
+        })
     }
 
     /// Starts a track on cluster `j`.

@@ -10,8 +10,8 @@
 //! point-by-point scan would offer them.
 //!
 //! The leaf scan's helpers are always inlined into the search: left to the compiler, whether
-//! they were depended on unrelated code elsewhere in the crate, and the VFH stage of `trackd
-//! bench` took 5.3 ms instead of 4.6 when they were not.
+//! they were inlined depended on unrelated code elsewhere in the crate, and the VFH stage of
+//! `trackd bench` took 5.3 ms instead of 4.6 when they were not.
 
 /// Most points in a leaf, and the slots of a leaf's coordinate block.
 const LEAF: usize = 12;
