@@ -34,8 +34,8 @@ impl Default for DormantConfig {
 struct Dormant {
     id: u64,
     position: Vector2<f64>,
-    /// Time (s) after which it is forgotten.
-    until: f64,
+    /// Time (s) its track was dropped.
+    dropped: f64,
 }
 
 /// The remembered objects.
@@ -60,14 +60,17 @@ impl DormantTracks {
             self.remembered.push(Dormant {
                 id,
                 position,
-                until: now + self.config.memory,
+                dropped: now,
             });
         }
     }
 
-    /// Forgets what was dropped more than the memory's length before `now`.
+    /// Forgets what was dropped more than the memory's length before `now`, or after it (the
+    /// clock went back: another drive).
     pub fn expire(&mut self, now: f64) {
-        self.remembered.retain(|d| d.until >= now);
+        let memory = self.config.memory;
+        self.remembered
+            .retain(|d| (0.0..=memory).contains(&(now - d.dropped)));
     }
 
     /// The id of the nearest remembered object within the radius of `position`, forgotten
@@ -103,6 +106,10 @@ mod tests {
         assert_eq!(memory.claim(Vector2::new(0.5, 0.0)), Some(11));
         memory.remember(12, Vector2::new(0.0, 0.0), 2.0);
         memory.expire(7.1);
+        assert_eq!(memory.claim(Vector2::new(0.0, 0.0)), None);
+        // A clock that goes back starts over.
+        memory.remember(13, Vector2::new(0.0, 0.0), 100.0);
+        memory.expire(0.1);
         assert_eq!(memory.claim(Vector2::new(0.0, 0.0)), None);
     }
 

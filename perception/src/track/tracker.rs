@@ -113,7 +113,8 @@ pub struct Track {
     probe_time: f64,
     heading_flips: u32,
     cluster: Option<usize>,
-    /// Where the box centre was put by the last matched view, and when (s).
+    /// Where the box centre was after the last matched view (the motion model's estimate),
+    /// and when (s).
     last_seen: (Vector2<f64>, f64),
 }
 
@@ -498,10 +499,13 @@ impl Tracker {
             ShapeVerdict::Structure(_) => None,
             _ => self.dormant.claim(center.xy()),
         };
-        let id = returning.unwrap_or_else(|| {
-            self.next_id += 1;
-            self.next_id - 1
-        });
+        let id = match returning {
+            Some(id) => id,
+            None => {
+                self.next_id += 1;
+                self.next_id - 1
+            }
+        };
         self.tracks.push(Track {
             id,
             motion: MotionModel::new(center, heading, &m.measurement_noise(range), velocity_sigma),
