@@ -101,6 +101,14 @@ pub struct ClassifyConfig {
     /// Highest mean surface variation of a sure person's view (rougher: a person-sized bush,
     /// which is a person only if it moves). Default 0.12.
     pub person_max_surface_variation: f64,
+    /// Fewest points of a sure person's view scaled to 10 m ([`ShapeFeatures::points_at_10m`]):
+    /// a whole person 10 m from a 64-beam scanner returns some 300 points, a sparse clump of
+    /// returns through foliage or a fence far fewer; a sparser person-shaped view is a person
+    /// only if it moves. Default 130, some 40 % of a whole view (on KITTI tracking 0000 the
+    /// views of the pedestrians tracked there measure 150-415, the two clumps reported as
+    /// persons 70 and 125; on the simulated drives 100 / 130 / 150 / 200 gave a mean MOTA of
+    /// 86.8 / 86.8 / 86.5 / 85.0 %, 86.9 % without the test).
+    pub person_min_points_at_10m: f64,
     /// Upper edge of the LiDAR's vertical field of view (degrees above horizontal): a cluster
     /// whose top reaches it may be taller than it looks. Default 2.0 (HDL-64E).
     pub sensor_upper_fov_deg: f64,
@@ -168,6 +176,7 @@ impl Default for ClassifyConfig {
             car_min_upper_ratio: 0.4,
             car_max_surface_variation: 0.065,
             person_max_surface_variation: 0.12,
+            person_min_points_at_10m: 130.0,
             sensor_upper_fov_deg: 2.0,
             truncation_tolerance_deg: 0.4,
             motion_probe_min_age: 0.3,
@@ -214,6 +223,9 @@ pub struct ShapeFeatures {
     /// Mean surface variation of the points' neighbourhoods: near 0 on smooth surfaces,
     /// higher in scattered returns (foliage).
     pub surface_variation: f64,
+    /// The view's points scaled to what it would hold 10 m from the sensor (× (range /
+    /// 10 m)², range to its centre): how densely the scanner sampled it.
+    pub points_at_10m: f64,
 }
 
 /// Why a view is static structure.
@@ -298,7 +310,8 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
             && !top_heavy
             && f.length >= c.static_person_min_width
             && f.upper_width >= c.static_person_min_width
-            && f.surface_variation <= c.person_max_surface_variation;
+            && f.surface_variation <= c.person_max_surface_variation
+            && f.points_at_10m >= c.person_min_points_at_10m;
         return if sure { Object(class) } else { Movable(class) };
     }
     let grounded_box = (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
@@ -430,7 +443,28 @@ mod tests {
             truncated: false,
             oblique_face: false,
             surface_variation: 0.0,
+            points_at_10m: 300.0,
         }
+    }
+
+    #[test]
+    fn a_sparse_person_shaped_clump_is_a_person_only_if_it_moves() {
+        let c = ClassifyConfig::default();
+        let person = features(0.5, 0.4, 1.7, 0.45, 0.4);
+        let pedestrian = ObjectClass::Pedestrian;
+        assert_eq!(
+            classify_shape(&person, &c),
+            ShapeVerdict::Object(pedestrian)
+        );
+        // 16 points 21 m away: 70 at 10 m.
+        let clump = ShapeFeatures {
+            points_at_10m: 70.0,
+            ..person
+        };
+        assert_eq!(
+            classify_shape(&clump, &c),
+            ShapeVerdict::Movable(pedestrian)
+        );
     }
 
     #[test]

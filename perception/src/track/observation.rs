@@ -145,6 +145,7 @@ impl Observer {
             truncated,
             oblique_face,
             surface_variation: f64::from(surface_variation),
+            points_at_10m: points.len() as f64 * (centroid - sensor).xy().norm_squared() / 100.0,
         };
         let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
         Observation {
