@@ -103,6 +103,17 @@ fn run(
     scans: usize,
     visible: impl Fn(usize, usize) -> bool,
 ) -> Vec<Reported> {
+    run_within(config, bodies, scans, visible, f64::INFINITY)
+}
+
+/// [`run`] with the scans cut at `range_limit` metres.
+fn run_within(
+    config: TrackConfig,
+    bodies: &[Body],
+    scans: usize,
+    visible: impl Fn(usize, usize) -> bool,
+    range_limit: f64,
+) -> Vec<Reported> {
     let mut tracker = Tracker::new(config);
     let cdf = FLAT.cdf();
     let ground = Ground::horizontal(0.0);
@@ -120,7 +131,7 @@ fn run(
             timestamp: t,
             pose: Isometry3::translation(0.0, 0.0, 1.73),
             ground: &ground,
-            range_limit: f64::INFINITY,
+            range_limit,
             views: None,
         };
         tracker.step(&scan, &clusters);
@@ -361,4 +372,21 @@ fn a_person_stepping_up_beside_a_tracked_person_is_a_second_track() {
         assert_ne!(first, second.0);
         assert_eq!(second.1, ObjectClass::Pedestrian);
     }
+}
+
+#[test]
+fn a_car_driving_off_keeps_its_class_while_the_range_limit_cuts_its_views() {
+    // Identified up close, then 18 scans at the 45 m limit: such views tell nothing of what
+    // the object is, and do not outvote the views that did.
+    let body = car((35.0, 0.0), (5.0, 0.0));
+    let out = run_within(TrackConfig::default(), &[body], 40, |_, _| true, 45.0);
+    let mut ids = Vec::new();
+    for (k, reported) in out.iter().enumerate().skip(1) {
+        let truth = body.center(k as f64 * 0.1);
+        let (id, class, _) = near(reported, truth).unwrap_or_else(|| panic!("scan {k}: lost"));
+        assert_eq!(class, ObjectClass::Car, "scan {k}");
+        ids.push(id);
+    }
+    ids.dedup();
+    assert_eq!(ids.len(), 1, "one id: {ids:?}");
 }

@@ -433,12 +433,13 @@ impl Tracker {
         t.last_seen = (t.motion.position().xy(), scan.timestamp);
         t.car_top = (t.car_top - TOP_SINK).max(car_top(o));
         t.person_width = (t.person_width - WIDTH_SINK).max(person_width(o));
-        t.votes.add(
-            verdict_with_person_width(o, t.person_width, config)
-                .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
-            config.classify.vote_memory,
-        );
         if !o.clipped {
+            // A view cut by the range limit shows nothing of what the object is.
+            t.votes.add(
+                verdict_with_person_width(o, t.person_width, config)
+                    .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
+                config.classify.vote_memory,
+            );
             judge_motion(t, cluster.points, may_have_arrived, scan, config);
         }
         t.settle_identity();
