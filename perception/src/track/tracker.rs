@@ -326,14 +326,15 @@ impl Tracker {
             }
         }
         let confidence = &self.config.confidence;
-        self.dormant.expire(scan.timestamp);
-        for t in &self.tracks {
-            let remembered = t.hits >= CONFIRMED_HITS && !t.moving && t.identity().is_some();
-            if remembered && confidence.is_lost(t.confidence) {
-                self.dormant.remember(t.id, t.last_seen.0, scan.timestamp);
+        let dormant = &mut self.dormant;
+        dormant.expire(scan.timestamp);
+        self.tracks.retain(|t| {
+            let lost = confidence.is_lost(t.confidence);
+            if lost && t.hits >= CONFIRMED_HITS && !t.moving && t.identity().is_some() {
+                dormant.remember(t.id, t.last_seen.0, scan.timestamp);
             }
-        }
-        self.tracks.retain(|t| !confidence.is_lost(t.confidence));
+            !lost
+        });
         for (j, cluster) in clusters.iter().enumerate() {
             if !self.taken[j] && self.may_be_born(j) {
                 self.birth(j, scan, cluster);
@@ -359,6 +360,7 @@ impl Tracker {
             pairs.log_det = predicted.covariance.determinant().max(1e-12).ln();
             let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
                 + t.size.xy().norm() / 2.0;
+            let person_reach = pedestrian_reach(t, scan, &self.config);
             for (j, o) in self.observations.iter().enumerate() {
                 let too_long = o.shape.length > size_gate * t.size.x.max(t.size.y) + 1.0;
                 if gated
@@ -370,9 +372,9 @@ impl Tracker {
                 }
                 let center = measured_center(t, o, scan, &self.config);
                 let mahalanobis2 = predicted.mahalanobis_squared(&center.xy());
-                if gated
-                    && (mahalanobis2 > gate || beyond_reach(t, &center.xy(), scan, &self.config))
-                {
+                let out_of_person_reach =
+                    person_reach.is_some_and(|r| (center.xy() - t.last_seen.0).norm() > r);
+                if gated && (mahalanobis2 > gate || out_of_person_reach) {
                     continue;
                 }
                 pairs.pairs.push(PairScore {
@@ -460,8 +462,8 @@ impl Tracker {
         let person_view = matches!(o.verdict, ShapeVerdict::Object(class) if sure_person(class));
         !self.tracks.iter().any(|t| {
             t.hits >= self.config.birth_hits
-                && !(person_view && t.identity().is_some_and(sure_person))
                 && inside_box(t, &c, FRAGMENT_MARGIN)
+                && !(person_view && t.identity().is_some_and(sure_person))
         })
     }
 
@@ -496,15 +498,12 @@ impl Tracker {
         let mut votes = ClassVotes::default();
         votes.add(o.verdict, config.classify.vote_memory);
         // A static object seen again where its dropped track left it gets its id back.
-        let returning = match o.verdict {
-            ShapeVerdict::Structure(_) => None,
-            _ => self.dormant.claim(center.xy()),
-        };
-        let id = match returning {
+        let id = match self.dormant.claim(center.xy()) {
             Some(id) => id,
             None => {
+                let id = self.next_id;
                 self.next_id += 1;
-                self.next_id - 1
+                id
             }
         };
         self.tracks.push(Track {
@@ -711,22 +710,17 @@ fn measured_center(
     Vector3::new(xy.x, xy.y, o.ground_z + t.size.z / 2.0)
 }
 
-/// Whether a view centred at `center` lies farther from where a pedestrian track was last
-/// seen than a person walks or runs since then: however wide the motion model's gate has
-/// grown while the track coasted, it does not take a person metres away.
-fn beyond_reach(
-    t: &Track,
-    center: &Vector2<f64>,
-    scan: &ScanContext<'_>,
-    config: &TrackConfig,
-) -> bool {
+/// How far (m) from where pedestrian track `t` was last seen a view may lie now: as far as a
+/// person walks or runs since then, plus a margin. However wide the motion model's gate has
+/// grown while the track coasted, it does not take a person metres away. `None` for tracks
+/// not identified as pedestrians.
+fn pedestrian_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> Option<f64> {
     if t.identity() != Some(ObjectClass::Pedestrian) {
-        return false;
+        return None;
     }
-    let (at, when) = t.last_seen;
-    let elapsed = (scan.timestamp - when).max(0.0);
+    let elapsed = (scan.timestamp - t.last_seen.1).max(0.0);
     let m = &config.motion;
-    (center - at).norm() > m.pedestrian_max_speed * elapsed + m.pedestrian_reach_margin
+    Some(m.pedestrian_max_speed * elapsed + m.pedestrian_reach_margin)
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
