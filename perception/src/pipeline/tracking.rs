@@ -10,6 +10,7 @@ use crate::TrackState;
 use crate::config::Config;
 use crate::occupancy::{OccupancyMap, OccupancyScan};
 use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
+use crate::track::arrivals::{ArrivalPeeler, Scene};
 use crate::track::{ClusterInput, PredictedBox, RecentViews, ScanContext, Splitter, Tracker, View};
 use crate::vfh::VfhEstimator;
 
@@ -28,12 +29,17 @@ struct Parts {
 
 /// Views are kept this much longer (s) than the oldest motion probe they may be compared with.
 const VIEW_SLACK: f64 = 0.5;
+/// Newcomers to a large cluster are points that stand where the newest scan at least this
+/// much earlier (s) saw through: at 10 Hz the scan 0.5 s earlier, since which a pedestrian
+/// has walked half a metre.
+const ARRIVAL_AGE: f64 = 0.45;
 
 /// The back half's state: tracker, recent views, occupancy map, super-frame trigger.
 pub struct Tracking {
     config: Config,
     vehicle_id: String,
     splitter: Splitter,
+    peeler: ArrivalPeeler,
     estimator: VfhEstimator,
     tracker: Tracker,
     occupancy: OccupancyMap,
@@ -49,6 +55,7 @@ impl Tracking {
     pub fn new(config: Config, vehicle_id: String) -> Self {
         Self {
             splitter: Splitter::default(),
+            peeler: ArrivalPeeler::default(),
             estimator: VfhEstimator::new(config.vfh.clone()),
             tracker: Tracker::new(config.track.clone()),
             occupancy: OccupancyMap::new(config.occupancy.clone()),
@@ -194,21 +201,35 @@ impl Tracking {
     }
 
     /// Splits each gathered cluster of `scan` that several confirmed tracks' predicted boxes
-    /// claim among them, describing the new parts; the others keep their VFH.
+    /// claim among them, or that newcomers are peeled off, describing the new parts; the
+    /// others keep their VFH.
     fn split_among_tracks(&mut self, scan: &mut Segmented) {
         let p = &mut self.parts;
         p.boxes.clear();
         p.boxes.extend(self.tracker.predicted_boxes(scan.timestamp));
         p.ranges.clear();
         p.signatures.clear();
+        // The earlier scan newcomers are told by (the current one is not among the views yet).
+        let then = (scan.tracking_frame == TrackingFrame::World)
+            .then(|| self.views.before(scan.timestamp, ARRIVAL_AGE))
+            .flatten();
         let viewpoint = scan.pose.translation.vector;
         let viewpoint = [viewpoint.x, viewpoint.y, viewpoint.z];
         let clusters = &mut scan.clusters;
         for (r, signature) in clusters.ranges.iter().zip(&mut clusters.signatures) {
             p.split.clear();
             if self.config.track.split_merged_clusters {
-                self.splitter
-                    .split(&mut clusters.points[r.clone()], &p.boxes, &mut p.split);
+                let points = &mut clusters.points[r.clone()];
+                self.splitter.split(points, &p.boxes, &mut p.split);
+                if let (1, Some(then)) = (p.split.len(), then) {
+                    p.split.clear();
+                    let scene = Scene {
+                        ground: &scan.ground,
+                        sensor: [viewpoint[0], viewpoint[1]],
+                        boxes: &p.boxes,
+                    };
+                    self.peeler.split(points, then, &scene, &mut p.split);
+                }
             }
             if p.split.len() <= 1 {
                 p.ranges.push(r.clone());

@@ -157,9 +157,10 @@ pub struct TrackConfig {
     /// A confirmed track missed for at most this many scans is still reported at its
     /// predicted position (coasting through short occlusions). Default 2.
     pub report_coasting_scans: u32,
-    /// Split clusters DBSCAN merged: people a gap away peeled off, and a cluster that holds
+    /// Split clusters DBSCAN merged: people a gap away peeled off, a cluster that holds
     /// the predicted boxes of several confirmed tracks shared out among them (two riders side
-    /// by side). Default true.
+    /// by side), and person-sized groups of newcomers peeled off large clusters (a pedestrian
+    /// walking along a wall: see [`super::arrivals`]). Default true.
     pub split_merged_clusters: bool,
     /// Weight of the new view in the smoothed size when it is smaller than the current
     /// estimate (partial views shrink slowly). Larger views count in full. Default 0.1.

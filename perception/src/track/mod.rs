@@ -3,6 +3,7 @@
 //! from partial views; confidence decay; training-free identification of objects versus
 //! static structure.
 
+pub mod arrivals;
 pub mod assignment;
 pub mod association;
 pub mod box_fit;

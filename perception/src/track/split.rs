@@ -190,6 +190,7 @@ mod tests {
             center: Vector2::new(cx, cy),
             heading: 0.0,
             size: Vector2::new(1.8, 0.6),
+            moving_vehicle: false,
         }
     }
 

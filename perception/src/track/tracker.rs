@@ -80,6 +80,9 @@ pub struct PredictedBox {
     pub heading: f64,
     /// Length and width, m.
     pub size: Vector2<f64>,
+    /// A vehicle seen to move: its front stands where free space was a moment ago, and is
+    /// no newcomer to peel off it (see [`super::arrivals`]).
+    pub moving_vehicle: bool,
 }
 
 /// One track (tentative or confirmed, object or not yet identified).
@@ -275,6 +278,7 @@ impl Tracker {
                 center: t.motion.position().xy() + t.motion.velocity() * dt,
                 heading: t.motion.yaw(),
                 size: t.size.xy(),
+                moving_vehicle: t.moving && t.identity() == Some(ObjectClass::Car),
             })
     }
 

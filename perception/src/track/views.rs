@@ -74,6 +74,14 @@ impl RecentViews {
         self.views.back()
     }
 
+    /// The newest view taken at least `age` seconds before `timestamp`, if one is kept.
+    pub fn before(&self, timestamp: f64, age: f64) -> Option<&View> {
+        self.views
+            .iter()
+            .rev()
+            .find(|v| v.timestamp <= timestamp - age)
+    }
+
     /// The view of the scan taken at `timestamp`, if still kept.
     pub fn at(&self, timestamp: f64) -> Option<&View> {
         self.views.iter().rev().find(|v| v.timestamp == timestamp)
