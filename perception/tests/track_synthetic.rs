@@ -390,3 +390,62 @@ fn a_car_driving_off_keeps_its_class_while_the_range_limit_cuts_its_views() {
     ids.dedup();
     assert_eq!(ids.len(), 1, "one id: {ids:?}");
 }
+
+#[test]
+fn a_pedestrian_track_does_not_grow_into_the_wall_it_walks_along() {
+    // A person identified alone, then seen in one cluster with a wall behind them that shows
+    // more of itself every scan (the sensor driving past): the person's track must not take
+    // ever longer pieces of the wall and walk off along it.
+    let person = pedestrian((15.0, 3.0));
+    let mut tracker = Tracker::new(TrackConfig::default());
+    let cdf = FLAT.cdf();
+    let ground = Ground::horizontal(0.0);
+    let mut person_id = None;
+    for k in 0..30 {
+        let t = k as f64 * 0.1;
+        let mut cloud = person.visible_points(t, scan_spacing(15.0));
+        if k >= 5 {
+            let wall = Body {
+                start: Vector2::new(15.5, 3.0 + 0.25 * (k - 5) as f64),
+                velocity: Vector2::zeros(),
+                size: Vector3::new(0.2, 0.6 + 0.5 * (k - 5) as f64, 2.2),
+                rider: false,
+            };
+            cloud.extend(wall.visible_points(t, scan_spacing(15.0)));
+        }
+        let clouds = [cloud];
+        let clusters = flat_clusters(&clouds, &cdf);
+        let scan = ScanContext {
+            timestamp: t,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground: &ground,
+            range_limit: f64::INFINITY,
+            views: None,
+        };
+        tracker.step(&scan, &clusters);
+        if k == 4 {
+            let (id, class, _) = tracker
+                .reported()
+                .map(|tr| {
+                    let s = tr.state();
+                    (s.id, s.class, s.center)
+                })
+                .find(|(_, _, c)| (c.xy() - person.center(0.0)).norm() < 0.5)
+                .expect("the person is reported");
+            assert_eq!(class, ObjectClass::Pedestrian);
+            person_id = Some(id);
+        }
+        if let Some(track) = tracker
+            .tracks()
+            .iter()
+            .find(|tr| Some(tr.id()) == person_id)
+        {
+            let s = track.state();
+            let length = s.size.x.max(s.size.y);
+            assert!(
+                length < 2.0,
+                "scan {k}: the person's track is {length:.1} m long"
+            );
+        }
+    }
+}

@@ -43,7 +43,8 @@ pub struct AssociationConfig {
     /// Weight of the max CDF deviation in the assignment cost. Default 2.0.
     pub mdt_weight: f64,
     /// A cluster longer than this many times the track's length, plus 1 m, is another object
-    /// (a van next to the pole a track was born on). Default 2.0.
+    /// (a van next to the pole a track was born on); for a track identified as a pedestrian,
+    /// so is one longer than `classify.pedestrian_max_length` plus 1 m. Default 2.0.
     pub size_gate: f64,
 }
 

@@ -351,7 +351,6 @@ impl Tracker {
     fn score_pairs(&mut self, scan: &ScanContext<'_>, clusters: &[ClusterInput<'_>]) {
         let gated = self.config.association.mode == AssociationMode::GatedAssignment;
         let gate = self.config.association.gate;
-        let size_gate = self.config.association.size_gate;
         self.pairs
             .resize_with(self.tracks.len(), TrackPairs::default);
         for (t, pairs) in self.tracks.iter().zip(&mut self.pairs) {
@@ -365,8 +364,9 @@ impl Tracker {
             let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
                 + t.size.xy().norm() / 2.0;
             let person_reach = pedestrian_reach(t, scan, &self.config);
+            let longest = longest_view(t, &self.config);
             for (j, o) in self.observations.iter().enumerate() {
-                let too_long = o.shape.length > size_gate * t.size.x.max(t.size.y) + 1.0;
+                let too_long = o.shape.length > longest;
                 if gated
                     && (too_long
                         || (o.rect.center - predicted.mean).norm()
@@ -700,6 +700,20 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
         };
         t.size[k] += rate * (target[k] - t.size[k]);
     }
+}
+
+/// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
+/// identified person, whose smoothed size grows with every view a little larger, at most its
+/// class's longest view plus 1 m (a pedestrian walking along a wall took ever longer pieces of
+/// it and became a 4.5 m track on the wall).
+fn longest_view(t: &Track, config: &TrackConfig) -> f64 {
+    let c = &config.classify;
+    let by_size = config.association.size_gate * t.size.x.max(t.size.y) + 1.0;
+    let by_class = match t.identity() {
+        Some(ObjectClass::Pedestrian) => c.pedestrian_max_length + 1.0,
+        _ => f64::INFINITY,
+    };
+    by_size.min(by_class)
 }
 
 /// Where view `o` puts the centre of track `t`'s box.
