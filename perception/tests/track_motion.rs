@@ -3,7 +3,7 @@
 //! sensor hides the place it left, and is judged moving because it now stands where the laser
 //! passed freely before; an identical post that stands still is never reported, not even
 //! near the sensor with the pose a few centimetres off from scan to scan; a walker crossing
-//! the view near the sensor is seen moving.
+//! the view near the sensor is seen moving, and judged afresh once it has stood still.
 
 mod track_support;
 mod view_support;
@@ -58,12 +58,14 @@ fn background() -> Vec<Point> {
 /// Runs 20 scans at 10 Hz with the sensor still at the origin; returns, per scan, the
 /// world positions of the reported tracks.
 fn run(posts: impl Fn(f64) -> Vec<Vector2<f64>>) -> Vec<Vec<Vector3<f64>>> {
-    run_with_pose_error(posts, |_| Vector2::zeros())
+    run_with_pose_error(20, posts, |_| Vector2::zeros())
 }
 
-/// [`run`] with the pose estimate of scan k off by `pose_error(k)` (m): the clusters and the
-/// pose the tracker gets are shifted by it, the range image is the sensor's own.
+/// [`run`] over `scans` scans with the pose estimate of scan k off by `pose_error(k)` (m): the
+/// clusters and the pose the tracker gets are shifted by it, the range image is the sensor's
+/// own.
 fn run_with_pose_error(
+    scans: u32,
     posts: impl Fn(f64) -> Vec<Vector2<f64>>,
     pose_error: impl Fn(u32) -> Vector2<f64>,
 ) -> Vec<Vec<Vector3<f64>>> {
@@ -73,7 +75,7 @@ fn run_with_pose_error(
     let cdf = FLAT.cdf();
     let background = background();
     let mut out = Vec::new();
-    for k in 0..20 {
+    for k in 0..scans {
         let t = f64::from(k) * 0.1;
         let error = pose_error(k);
         let pose = Isometry3::translation(error.x, error.y, SENSOR_Z);
@@ -130,7 +132,7 @@ fn a_near_post_under_pose_jitter_is_never_reported() {
     // 5 m away the image's cells are 2 cm wide: a pose 10 cm off one way, then the other,
     // moves the post's old points off its silhouette, yet the post has not moved.
     let jitter = |k: u32| Vector2::new(0.0, if k.is_multiple_of(2) { 0.1 } else { -0.1 });
-    let out = run_with_pose_error(|_| vec![Vector2::new(5.0, 0.5)], jitter);
+    let out = run_with_pose_error(20, |_| vec![Vector2::new(5.0, 0.5)], jitter);
     assert!(out.iter().all(Vec::is_empty), "{out:?}");
 }
 
@@ -143,4 +145,18 @@ fn a_near_walker_crossing_the_view_is_seen_moving() {
         first.is_some_and(|k| k <= 8),
         "reported from scan {first:?}, expected by scan 8"
     );
+}
+
+#[test]
+fn a_walker_that_stops_is_judged_afresh_and_a_post_it_now_is() {
+    // Crosses the view for a second, then stands still for five: shaped like a post, it is
+    // reported while it moves and no longer once it has stood still for three seconds.
+    let stop = 1.0;
+    let out = run_with_pose_error(
+        60,
+        |t| vec![Vector2::new(5.0, -1.0 + 1.4 * t.min(stop))],
+        |_| Vector2::zeros(),
+    );
+    assert_eq!(out[12].len(), 1, "reported while walking and just after");
+    assert!(out[55..].iter().all(Vec::is_empty), "{:?}", &out[55..]);
 }

@@ -111,6 +111,9 @@ pub struct Track {
     /// [`WIDTH_SINK`] a scan; 0 when none was.
     person_width: f64,
     moving: bool,
+    /// While moving: where the track was when it last moved [`STILL_RADIUS`] away from the
+    /// place before, and when (s).
+    still_since: (Vector2<f64>, f64),
     /// Points of an earlier cluster of the track (world frame) and when they were seen.
     probes: Vec<Vector3<f64>>,
     probe_time: f64,
@@ -525,6 +528,7 @@ impl Tracker {
             car_top: car_top(o),
             person_width: person_width(o),
             moving: false,
+            still_since: (center.xy(), scan.timestamp),
             probes: Vec::new(),
             probe_time: scan.timestamp,
             heading_flips: 0,
@@ -767,6 +771,13 @@ const LEFT_HALF_WIDTH: f64 = 0.15;
 /// of the track's predicted box: a track that jumped to another cluster stands where the
 /// laser passed freely before, and has not moved.
 const ARRIVAL_BOX_MARGIN: f64 = 1.0;
+/// A moving track that stays within this (m) of one place for [`STILL_TIME`] is judged
+/// afresh: a pedestrian who stopped, or a track that slid from a person onto a tree beside
+/// them and, judged moving, reported the tree as the person.
+const STILL_RADIUS: f64 = 1.0;
+/// How long (s) a moving track stays within [`STILL_RADIUS`] before it is judged afresh
+/// (2 s cost a pedestrian who waits a moment).
+const STILL_TIME: f64 = 3.0;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
 
@@ -785,6 +796,14 @@ fn judge_motion(
         return;
     };
     if t.moving {
+        let here = t.motion.position().xy();
+        if (here - t.still_since.0).norm() > STILL_RADIUS {
+            t.still_since = (here, scan.timestamp);
+        } else if scan.timestamp - t.still_since.1 >= STILL_TIME {
+            tracing::trace!("track {} has stood still: motion judged afresh", t.id);
+            t.moving = false;
+            t.probes.clear();
+        }
         return;
     }
     let c = &config.classify;
@@ -808,6 +827,7 @@ fn judge_motion(
                     t.id
                 );
                 t.moving = true;
+                t.still_since = (t.motion.position().xy(), scan.timestamp);
                 return;
             }
         }
