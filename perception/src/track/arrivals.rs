@@ -15,6 +15,7 @@ use std::ops::Range;
 use nalgebra::{Point3, Vector3};
 
 use super::ground::Ground;
+use super::parts::PartWriter;
 use super::tracker::PredictedBox;
 use super::views::View;
 use super::visibility::Visibility;
@@ -118,8 +119,7 @@ pub struct ArrivalPeeler {
     stack: Vec<u32>,
     groups: Vec<Group>,
     owner: Vec<u32>,
-    counts: Vec<usize>,
-    scratch: Vec<Point>,
+    writer: PartWriter,
 }
 
 impl ArrivalPeeler {
@@ -142,8 +142,7 @@ impl ArrivalPeeler {
             parts.push(0..points.len());
             return 1;
         }
-        // Owner of each point: the first peeled group holding it, else the rest (slot
-        // `peeled`); then a counting sort by owner.
+        // Owner of each point: the first peeled group holding it, else the rest (`peeled`).
         self.owner.clear();
         for p in points.iter() {
             let owner = self.groups[..peeled]
@@ -152,30 +151,7 @@ impl ArrivalPeeler {
                 .unwrap_or(peeled);
             self.owner.push(owner as u32);
         }
-        self.counts.clear();
-        self.counts.resize(peeled + 2, 0);
-        for &o in &self.owner {
-            self.counts[o as usize + 1] += 1;
-        }
-        for k in 1..self.counts.len() {
-            self.counts[k] += self.counts[k - 1];
-        }
-        let starts = self.counts.clone();
-        self.scratch.clear();
-        self.scratch.resize(points.len(), Point::default());
-        for (p, &o) in points.iter().zip(&self.owner) {
-            let slot = &mut self.counts[o as usize];
-            self.scratch[*slot] = *p;
-            *slot += 1;
-        }
-        points.copy_from_slice(&self.scratch);
-        let before = parts.len();
-        for w in starts.windows(2) {
-            if w[1] > w[0] {
-                parts.push(w[0]..w[1]);
-            }
-        }
-        parts.len() - before
+        self.writer.write(points, &self.owner, peeled + 1, parts)
     }
 
     /// Finds the person-sized groups of arrived points of a large cluster; keeps them first

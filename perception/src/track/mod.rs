@@ -15,6 +15,7 @@ pub mod fragments;
 pub mod ground;
 pub mod motion;
 pub mod observation;
+mod parts;
 pub mod person_split;
 pub mod split;
 pub mod tracker;

@@ -18,6 +18,7 @@ use nalgebra::Vector3;
 
 use super::classify::ClassifyConfig;
 use super::ground::Ground;
+use super::parts::PartWriter;
 use crate::Point;
 
 /// Points at least this high above the ground (m) are upper body: torso, arms, head.
@@ -194,7 +195,7 @@ pub struct PersonSplitter {
     torsos: Vec<Extent>,
     parts: Vec<Extent>,
     slot_of_point: Vec<u32>,
-    scratch: Vec<Point>,
+    writer: PartWriter,
 }
 
 impl PersonSplitter {
@@ -398,26 +399,8 @@ impl PersonSplitter {
             parts.push(0..points.len());
             return 1;
         }
-        let mut starts = vec![0usize; people + 2];
-        for (s, size) in sizes.iter().enumerate() {
-            starts[s + 1] = starts[s] + size;
-        }
-        let mut fill = starts.clone();
-        self.scratch.clear();
-        self.scratch.resize(points.len(), Point::default());
-        for (p, &s) in points.iter().zip(&self.slot_of_point) {
-            self.scratch[fill[s as usize]] = *p;
-            fill[s as usize] += 1;
-        }
-        points.copy_from_slice(&self.scratch);
-        let before = parts.len();
-        parts.extend(
-            starts
-                .windows(2)
-                .map(|w| w[0]..w[1])
-                .filter(|r| !r.is_empty()),
-        );
-        parts.len() - before
+        self.writer
+            .write(points, &self.slot_of_point, people + 1, parts)
     }
 }
 

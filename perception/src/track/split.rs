@@ -7,6 +7,7 @@ use std::ops::Range;
 
 use nalgebra::Vector2;
 
+use super::parts::PartWriter;
 use super::tracker::PredictedBox;
 use crate::Point;
 
@@ -23,8 +24,7 @@ const OWNERLESS_DISTANCE: f64 = 1.0;
 pub struct Splitter {
     claimants: Vec<BoxFrame>,
     owner: Vec<u32>,
-    scratch: Vec<Point>,
-    counts: Vec<usize>,
+    writer: PartWriter,
 }
 
 impl Splitter {
@@ -72,31 +72,8 @@ impl Splitter {
             }
             self.owner.push(best.2);
         }
-        // Counting sort of the points by owner.
-        self.counts.clear();
-        self.counts.resize(self.claimants.len() + 2, 0);
-        for &o in &self.owner {
-            self.counts[o as usize + 1] += 1;
-        }
-        for k in 1..self.counts.len() {
-            self.counts[k] += self.counts[k - 1];
-        }
-        let starts = self.counts.clone();
-        self.scratch.clear();
-        self.scratch.resize(points.len(), Point::default());
-        for (p, &o) in points.iter().zip(&self.owner) {
-            let slot = &mut self.counts[o as usize];
-            self.scratch[*slot] = *p;
-            *slot += 1;
-        }
-        points.copy_from_slice(&self.scratch);
-        let before = parts.len();
-        for w in starts.windows(2) {
-            if w[1] > w[0] {
-                parts.push(w[0]..w[1]);
-            }
-        }
-        parts.len() - before
+        let owners = self.claimants.len() + 1;
+        self.writer.write(points, &self.owner, owners, parts)
     }
 }
 
