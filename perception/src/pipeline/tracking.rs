@@ -215,6 +215,11 @@ impl Tracking {
             .flatten();
         let viewpoint = scan.pose.translation.vector;
         let viewpoint = [viewpoint.x, viewpoint.y, viewpoint.z];
+        let scene = Scene {
+            ground: &scan.ground,
+            sensor: [viewpoint[0], viewpoint[1]],
+            boxes: &p.boxes,
+        };
         let clusters = &mut scan.clusters;
         for (r, signature) in clusters.ranges.iter().zip(&mut clusters.signatures) {
             p.split.clear();
@@ -223,11 +228,6 @@ impl Tracking {
                 self.splitter.split(points, &p.boxes, &mut p.split);
                 if let (1, Some(then)) = (p.split.len(), then) {
                     p.split.clear();
-                    let scene = Scene {
-                        ground: &scan.ground,
-                        sensor: [viewpoint[0], viewpoint[1]],
-                        boxes: &p.boxes,
-                    };
                     self.peeler.split(points, then, &scene, &mut p.split);
                 }
             }

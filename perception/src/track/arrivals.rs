@@ -16,6 +16,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::ground::Ground;
 use super::parts::PartWriter;
+use super::raster::{MARKED, Raster, UNLABELLED};
 use super::tracker::PredictedBox;
 use super::views::View;
 use super::visibility::Visibility;
@@ -105,16 +106,22 @@ impl Group {
     }
 }
 
-/// No cell, no group.
-const NONE: u32 = u32::MAX;
+/// A point that stands where the earlier scan saw through.
+#[derive(Clone, Copy, Debug)]
+struct Arrival {
+    /// Its index in the cluster.
+    point: u32,
+    /// Its raster cell.
+    cell: u32,
+    /// Its height above the ground (m).
+    height: f64,
+}
 
 /// Reusable buffers of the peel.
 #[derive(Debug, Default)]
 pub struct ArrivalPeeler {
-    /// Per point: its raster cell when it arrived, else [`NONE`].
-    arrived_cell: Vec<u32>,
-    heights: Vec<f64>,
-    /// Per cell: its group, [`NONE`] when no arrived point lies in it.
+    arrivals: Vec<Arrival>,
+    /// Per raster cell: its group, [`UNLABELLED`] when no arrival lies in it.
     group_of_cell: Vec<u32>,
     stack: Vec<u32>,
     groups: Vec<Group>,
@@ -182,87 +189,58 @@ impl ArrivalPeeler {
         }
         let ground = scene.ground;
         let mut cell = CELL;
-        while ((extent[0] / cell) as usize + 1) * ((extent[1] / cell) as usize + 1) > MAX_CELLS {
+        while Raster::over(min, max, cell).len() > MAX_CELLS {
             cell *= 2.0;
         }
-        let columns = (extent[0] / cell) as usize + 1;
-        let rows = (extent[1] / cell) as usize + 1;
-        let cell_of = |p: &Point| {
-            let c = (((p.x - min[0]) / cell) as usize).min(columns - 1);
-            let r = (((p.y - min[1]) / cell) as usize).min(rows - 1);
-            r * columns + c
-        };
-        // The arrived points, and the cells they mark; a cluster none of whose every
-        // PROBE_STRIDE-th point arrived is left alone at once (walls and buildings, mostly).
+        let raster = Raster::over(min, max, cell);
+        // The arrived points; a cluster none of whose every PROBE_STRIDE-th point arrived is
+        // left alone at once (walls and buildings, mostly).
         let to_then = then.pose.inverse();
-        let height_of = |p: &Point| {
+        let arrival_height = |p: &Point| {
             let v = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
-            (v, ground.height(&v))
+            let height = ground.height(&v);
+            let seen_through = height >= MIN_HEIGHT
+                && then.image.visibility_across(
+                    &(to_then * Point3::from(v)).coords,
+                    SEEN_THROUGH_HALF_WIDTH,
+                ) == Visibility::SeenThrough;
+            (height >= MIN_HEIGHT, seen_through.then_some(height))
         };
-        let arrived_at = |v: Vector3<f64>, height: f64| {
-            height >= MIN_HEIGHT
-                && then
-                    .image
-                    .visibility_across(&(to_then * Point3::from(v)).coords, SEEN_THROUGH_HALF_WIDTH)
-                    == Visibility::SeenThrough
-        };
-        let any_probe_arrived = points.iter().step_by(PROBE_STRIDE).any(|p| {
-            let (v, height) = height_of(p);
-            arrived_at(v, height)
-        });
-        if !any_probe_arrived {
+        if !points
+            .iter()
+            .step_by(PROBE_STRIDE)
+            .any(|p| arrival_height(p).1.is_some())
+        {
             return 0;
         }
-        self.arrived_cell.clear();
-        self.heights.clear();
+        self.arrivals.clear();
+        let mut tested = 0;
+        for (k, p) in points.iter().enumerate() {
+            let (above, arrived) = arrival_height(p);
+            tested += usize::from(above);
+            if let Some(height) = arrived {
+                let cell = raster.cell_of(p) as u32;
+                self.arrivals.push(Arrival {
+                    point: k as u32,
+                    cell,
+                    height,
+                });
+            }
+        }
+        if self.arrivals.len() < MIN_ARRIVED {
+            return 0;
+        }
+        // Connected groups of the cells arrivals lie in.
         self.group_of_cell.clear();
-        self.group_of_cell.resize(columns * rows, NONE);
-        const MARKED: u32 = NONE - 1;
-        let (mut arrived, mut tested) = (0, 0);
-        for p in points {
-            let (v, height) = height_of(p);
-            self.heights.push(height);
-            tested += usize::from(height >= MIN_HEIGHT);
-            if arrived_at(v, height) {
-                let c = cell_of(p);
-                self.group_of_cell[c] = MARKED;
-                self.arrived_cell.push(c as u32);
-                arrived += 1;
-            } else {
-                self.arrived_cell.push(NONE);
-            }
+        self.group_of_cell.resize(raster.len(), UNLABELLED);
+        for a in &self.arrivals {
+            self.group_of_cell[a.cell as usize] = MARKED;
         }
-        if arrived < MIN_ARRIVED {
-            return 0;
-        }
-        // Connected groups of marked cells (8-neighbours).
-        let mut count = 0u32;
-        for start in 0..columns * rows {
-            if self.group_of_cell[start] != MARKED {
-                continue;
-            }
-            self.group_of_cell[start] = count;
-            self.stack.clear();
-            self.stack.push(start as u32);
-            while let Some(c) = self.stack.pop() {
-                let (r, col) = (c as usize / columns, c as usize % columns);
-                for nr in r.saturating_sub(1)..=(r + 1).min(rows - 1) {
-                    for nc in col.saturating_sub(1)..=(col + 1).min(columns - 1) {
-                        let n = nr * columns + nc;
-                        if self.group_of_cell[n] == MARKED {
-                            self.group_of_cell[n] = count;
-                            self.stack.push(n as u32);
-                        }
-                    }
-                }
-            }
-            count += 1;
-        }
+        let count = raster.label_groups(&mut self.group_of_cell, &mut self.stack);
         self.groups.resize(count as usize, Group::new());
-        for ((p, &c), &height) in points.iter().zip(&self.arrived_cell).zip(&self.heights) {
-            if c != NONE {
-                self.groups[self.group_of_cell[c as usize] as usize].add(p, height);
-            }
+        for a in &self.arrivals {
+            let group = self.group_of_cell[a.cell as usize] as usize;
+            self.groups[group].add(&points[a.point as usize], a.height);
         }
         // Grouped arrivals the size of no person: the cluster itself is on the move (a
         // vehicle), or the scene is not what it was; nothing is peeled then.

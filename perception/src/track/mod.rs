@@ -17,6 +17,7 @@ pub mod motion;
 pub mod observation;
 mod parts;
 pub mod person_split;
+mod raster;
 pub mod split;
 pub mod tracker;
 pub mod views;

@@ -11,7 +11,6 @@
 //! This needs no track: it separates the two cyclists of the paper's scene from their first
 //! scan on, before the track-guided split ([`super::split`]) can help.
 
-use std::collections::VecDeque;
 use std::ops::Range;
 
 use nalgebra::Vector3;
@@ -19,6 +18,7 @@ use nalgebra::Vector3;
 use super::classify::ClassifyConfig;
 use super::ground::Ground;
 use super::parts::PartWriter;
+use super::raster::{MARKED, Raster, UNLABELLED};
 use crate::Point;
 
 /// Points at least this high above the ground (m) are upper body: torso, arms, head.
@@ -72,38 +72,6 @@ impl PersonShape {
             top: [c.min_object_height as f32, c.person_max_height as f32],
             max_bottom: c.person_max_bottom as f32,
         }
-    }
-}
-
-/// A bird's-eye-view raster of one cluster.
-#[derive(Debug, Default)]
-struct Raster {
-    min: [f32; 2],
-    cell: f32,
-    columns: usize,
-    rows: usize,
-}
-
-impl Raster {
-    fn cell_of(&self, p: &Point) -> usize {
-        let c = (((p.x - self.min[0]) / self.cell) as usize).min(self.columns - 1);
-        let r = (((p.y - self.min[1]) / self.cell) as usize).min(self.rows - 1);
-        r * self.columns + c
-    }
-
-    /// The 8 neighbours of cell `index` inside the raster.
-    fn neighbours(&self, index: usize) -> impl Iterator<Item = usize> + '_ {
-        let (r, c) = ((index / self.columns) as i64, (index % self.columns) as i64);
-        (-1i64..=1)
-            .flat_map(move |dr| (-1i64..=1).map(move |dc| (r + dr, c + dc)))
-            .filter(move |&(nr, nc)| {
-                (nr, nc) != (r, c)
-                    && nr >= 0
-                    && nc >= 0
-                    && nr < self.rows as i64
-                    && nc < self.columns as i64
-            })
-            .map(move |(nr, nc)| nr as usize * self.columns + nc as usize)
     }
 }
 
@@ -181,9 +149,6 @@ impl Extent {
     }
 }
 
-/// No label.
-const NONE: u32 = u32::MAX;
-
 /// Reusable buffers of the split.
 #[derive(Debug, Default)]
 pub struct PersonSplitter {
@@ -191,7 +156,7 @@ pub struct PersonSplitter {
     cells: Vec<u32>,
     /// Per cell: the upper body it belongs to.
     owner: Vec<u32>,
-    queue: VecDeque<u32>,
+    stack: Vec<u32>,
     torsos: Vec<Extent>,
     parts: Vec<Extent>,
     slot_of_point: Vec<u32>,
@@ -246,22 +211,15 @@ impl PersonSplitter {
             return None;
         }
         let cell = (range * CELL_PER_METRE).clamp(MIN_CELL, MAX_CELL);
-        Some(Raster {
-            min,
-            cell,
-            columns: (extent[0] / cell) as usize + 1,
-            rows: (extent[1] / cell) as usize + 1,
-        })
+        Some(Raster::over(min, max, cell))
     }
 
     /// Labels the connected footprints of the upper-body points; returns how many.
     fn find_torsos(&mut self, points: &[Point], ground: &Ground, raster: &Raster) -> usize {
-        let size = raster.columns * raster.rows;
         self.owner.clear();
-        self.owner.resize(size, NONE);
+        self.owner.resize(raster.len(), UNLABELLED);
         self.heights.clear();
         self.cells.clear();
-        const UPPER: u32 = NONE - 1;
         for p in points {
             let v = Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
             let h = ground.height(&v) as f32;
@@ -269,28 +227,10 @@ impl PersonSplitter {
             self.heights.push(h);
             self.cells.push(cell as u32);
             if h >= UPPER_BODY {
-                self.owner[cell] = UPPER;
+                self.owner[cell] = MARKED;
             }
         }
-        let mut torsos = 0u32;
-        for start in 0..size {
-            if self.owner[start] != UPPER {
-                continue;
-            }
-            self.owner[start] = torsos;
-            self.queue.clear();
-            self.queue.push_back(start as u32);
-            while let Some(cell) = self.queue.pop_front() {
-                for n in raster.neighbours(cell as usize) {
-                    if self.owner[n] == UPPER {
-                        self.owner[n] = torsos;
-                        self.queue.push_back(n as u32);
-                    }
-                }
-            }
-            torsos += 1;
-        }
-        torsos as usize
+        raster.label_groups(&mut self.owner, &mut self.stack) as usize
     }
 
     /// Measures the torsos, gives every point to the nearest one (or to the rest when all
@@ -321,7 +261,7 @@ impl PersonSplitter {
             }
         }
         // Each point's torso: its own for upper-body points, else the nearest within reach.
-        const REST: u32 = NONE;
+        const REST: u32 = UNLABELLED;
         self.slot_of_point.clear();
         for (p, (&cell, &h)) in points.iter().zip(self.cells.iter().zip(&self.heights)) {
             let owner = if h >= UPPER_BODY {

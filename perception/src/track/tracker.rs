@@ -275,13 +275,16 @@ impl Tracker {
         let dt = self.time.map_or(0.0, |t| (timestamp - t).max(0.0));
         self.tracks
             .iter()
-            .filter(|t| t.hits >= self.confirmed_hits() && t.identity().is_some())
-            .map(move |t| PredictedBox {
-                id: t.id,
-                center: t.motion.position().xy() + t.motion.velocity() * dt,
-                heading: t.motion.yaw(),
-                size: t.size.xy(),
-                moving_vehicle: t.moving && t.identity() == Some(ObjectClass::Car),
+            .filter(|t| t.hits >= self.confirmed_hits())
+            .filter_map(move |t| {
+                let class = t.identity()?;
+                Some(PredictedBox {
+                    id: t.id,
+                    center: t.motion.position().xy() + t.motion.velocity() * dt,
+                    heading: t.motion.yaw(),
+                    size: t.size.xy(),
+                    moving_vehicle: t.moving && class == ObjectClass::Car,
+                })
             })
     }
 
