@@ -4,9 +4,10 @@
 //! [`UPPER_BODY`] above the ground fall into separate connected footprints, one per torso
 //! (a car's cabin gives one large footprint). Every other point of the cluster then goes to
 //! the nearest such footprint. When the parts so grown are all whole people (a person-sized
-//! torso, standing on the ground, person-high, person-sized), each becomes a cluster of its
-//! own; a person-shaped part of a larger cluster is as often a post by a hedge as a pedestrian
-//! by a car, and such clusters stay whole.
+//! torso, standing on the ground, person-high, person-sized) or posts beside one (a part no
+//! wider than a pole and taller than any person: a sign's, a lamp's, a traffic light's), each
+//! becomes a cluster of its own; a person-shaped part of a larger cluster is as often a post by
+//! a hedge as a pedestrian by a car, and such clusters stay whole.
 //!
 //! This needs no track: it separates the two cyclists of the paper's scene from their first
 //! scan on, before the track-guided split ([`super::split`]) can help.
@@ -60,6 +61,9 @@ pub struct PersonShape {
     pub top: [f32; 2],
     /// Highest lowest point above the ground (m): people stand on it.
     pub max_bottom: f32,
+    /// Widest footprint (m, either side) of a pole: a part this thin and taller than any
+    /// person is a post, a sign's or a lamp's, and a person beside it is peeled off it.
+    pub pole_max_footprint: f32,
 }
 
 impl PersonShape {
@@ -71,6 +75,7 @@ impl PersonShape {
             max_width: c.person_max_width as f32,
             top: [c.min_object_height as f32, c.person_max_height as f32],
             max_bottom: c.person_max_bottom as f32,
+            pole_max_footprint: c.pole_max_footprint as f32,
         }
     }
 }
@@ -147,6 +152,17 @@ impl Extent {
         );
         [a.max(b), a.min(b)]
     }
+}
+
+/// What a torso's part is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    /// A whole person.
+    Person,
+    /// A post beside a person.
+    Pole,
+    /// Anything else: left with the rest.
+    Other,
 }
 
 /// Reusable buffers of the split.
@@ -297,50 +313,59 @@ impl PersonSplitter {
                 self.parts[owner as usize].stretch(part_axes[owner as usize], x, y);
             }
         }
-        // A person: a torso-sized upper body, and grown from it a whole person.
-        let is_person: Vec<bool> = self
+        // A person: a torso-sized upper body, and grown from it a whole person. A pole: a
+        // thin part taller than any person.
+        let kinds: Vec<Part> = self
             .torsos
             .iter()
             .zip(&self.parts)
             .map(|(t, p)| {
                 let (torso, part) = (t.sides(), p.sides());
-                torso[0] <= TORSO[0]
+                let person = torso[0] <= TORSO[0]
                     && torso[1] <= TORSO[1]
                     && p.points >= shape.min_points
                     && part[0] <= shape.max_length
                     && part[1] <= shape.max_width
                     && (shape.top[0]..=shape.top[1]).contains(&p.top)
-                    && p.bottom <= shape.max_bottom
+                    && p.bottom <= shape.max_bottom;
+                if person {
+                    Part::Person
+                } else if part[0] <= shape.pole_max_footprint && p.top > shape.top[1] {
+                    Part::Pole
+                } else {
+                    Part::Other
+                }
             })
             .collect();
-        let people = is_person.iter().filter(|&&b| b).count();
-        // Output slot of each torso's part: people first, in order; the rest last.
-        let mut slot = vec![people as u32; torsos];
+        let people = kinds.iter().filter(|&&k| k == Part::Person).count();
+        let apart = people + kinds.iter().filter(|&&k| k == Part::Pole).count();
+        // Output slot of each torso's part: people and poles first, in order; the rest last.
+        let mut slot = vec![apart as u32; torsos];
         let mut next = 0;
-        for (k, &person) in is_person.iter().enumerate() {
-            if person {
+        for (k, kind) in kinds.iter().enumerate() {
+            if *kind != Part::Other {
                 slot[k] = next;
                 next += 1;
             }
         }
-        let mut sizes = vec![0usize; people + 1];
+        let mut sizes = vec![0usize; apart + 1];
         for s in &mut self.slot_of_point {
             *s = if *s == REST {
-                people as u32
+                apart as u32
             } else {
                 slot[*s as usize]
             };
             sizes[*s as usize] += 1;
         }
-        // Only a cluster made of people is split: a person-shaped part of a larger cluster is
-        // as often a post by a hedge as a pedestrian by a car.
-        let split = people >= 2 && sizes[people] <= points.len() / 10;
+        // Only a cluster made of people (and poles) is split: a person-shaped part of a
+        // larger cluster is as often a post by a hedge as a pedestrian by a car.
+        let split = people >= 1 && apart >= 2 && sizes[apart] <= points.len() / 10;
         if !split {
             parts.push(0..points.len());
             return 1;
         }
         self.writer
-            .write(points, &self.slot_of_point, people + 1, parts)
+            .write(points, &self.slot_of_point, apart + 1, parts)
     }
 }
 
@@ -455,6 +480,68 @@ mod tests {
             p.y += 1.0;
             p
         }));
+        let parts = split(&mut points);
+        assert_eq!(parts, vec![0..points.len()]);
+    }
+
+    /// A post at (x, y): 0.1 m thick, from the ground to `top`.
+    fn post(x: f32, y: f32, top: f32) -> Vec<Point> {
+        let mut out = Vec::new();
+        for k in 0..(top * 10.0) as usize {
+            for i in 0..3 {
+                out.push(Point::new(x, y + i as f32 * 0.05, k as f32 * 0.1, 0.0));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_person_beside_a_post_is_peeled_off_it() {
+        // A 3.5 m sign post 0.5 m from a rider: DBSCAN joins them, and the cluster, taller
+        // than a person, would be nothing but structure.
+        let one = rider(14.0, 0.0).len();
+        let mut points = rider(14.0, 0.0);
+        points.extend(post(14.0, 0.8, 3.5));
+        let parts = split(&mut points);
+        assert_eq!(parts.len(), 2, "{parts:?}");
+        let rider = parts
+            .iter()
+            .find(|r| r.len() == one)
+            .expect("the rider, whole");
+        let top = points[rider.clone()]
+            .iter()
+            .map(|p| p.z)
+            .fold(f32::MIN, f32::max);
+        assert!(
+            top < 2.0,
+            "the rider's part holds none of the post: top {top}"
+        );
+    }
+
+    #[test]
+    fn posts_alone_are_not_split() {
+        // Two posts and no person: a gantry, a fence; nothing to peel.
+        let mut points = post(14.0, 0.0, 3.5);
+        points.extend(post(14.0, 0.8, 3.5));
+        let parts = split(&mut points);
+        assert_eq!(parts, vec![0..points.len()]);
+    }
+
+    #[test]
+    fn a_person_beside_a_sign_wider_than_a_post_stays_with_it() {
+        // A 1.2 m board on its post is no post: the cluster stays whole.
+        let mut points = rider(14.0, 0.0);
+        points.extend(post(14.0, 0.8, 3.5));
+        for i in 0..24 {
+            for k in 0..5 {
+                points.push(Point::new(
+                    14.0,
+                    0.4 + i as f32 * 0.05,
+                    2.5 + k as f32 * 0.1,
+                    0.0,
+                ));
+            }
+        }
         let parts = split(&mut points);
         assert_eq!(parts, vec![0..points.len()]);
     }
