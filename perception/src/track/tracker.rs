@@ -781,6 +781,12 @@ const STILL_RADIUS: f64 = 1.0;
 /// How long (s) a moving track stays within [`STILL_RADIUS`] before it is judged afresh
 /// (2 s cost a pedestrian who waits a moment).
 const STILL_TIME: f64 = 3.0;
+/// A track whose cluster lies this far (m) from where its probes were taken... (a truck
+/// passing at highway speed is gone in half a second, before `motion_probe_min_age` lets a
+/// walker's probes clear their body; 1.5 m gave as many false positives as it won misses)
+const FAST_STEP: f64 = 3.0;
+/// ...judges its motion on probes from the scan before (s).
+const FAST_PROBE_MIN_AGE: f64 = 0.05;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
 
@@ -811,7 +817,12 @@ fn judge_motion(
     }
     let c = &config.classify;
     let age = scan.timestamp - t.probe_time;
-    if !t.probes.is_empty() && age >= c.motion_probe_min_age {
+    let min_age = if has_moved_far(&t.probes, points) {
+        FAST_PROBE_MIN_AGE
+    } else {
+        c.motion_probe_min_age
+    };
+    if !t.probes.is_empty() && age >= min_age {
         let left = count_views(now, t.probes.iter().copied(), |image, p| {
             image.visibility_across(p, LEFT_HALF_WIDTH)
         });
@@ -840,6 +851,25 @@ fn judge_motion(
         t.probes.extend(probe_points(points, scan));
         t.probe_time = scan.timestamp;
     }
+}
+
+/// Whether the cluster `points` (its mean) lies farther than [`FAST_STEP`] from the `probes`
+/// kept of the track (theirs): a vehicle passing at highway speed, or the visible part of a
+/// wall sliding along with the sensor, which the probes' visibility then tells apart.
+fn has_moved_far(probes: &[Vector3<f64>], points: &[Point]) -> bool {
+    if probes.is_empty() || points.is_empty() {
+        return false;
+    }
+    let mean = |sum: Vector3<f64>, n: usize| sum / n as f64;
+    let then = mean(probes.iter().sum(), probes.len());
+    let now = mean(
+        points
+            .iter()
+            .map(|p| Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)))
+            .sum(),
+        points.len(),
+    );
+    (now - then).xy().norm() > FAST_STEP
 }
 
 /// Up to [`PROBES`] of a cluster's `points`, spread over it, that stand clear of the ground.
