@@ -33,19 +33,24 @@ fn rear(x: f64) -> Vec<Point> {
     out
 }
 
-#[test]
-fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
+/// Runs `scans` scans at 10 Hz of the sensor standing at the origin, seeing at time `t` the
+/// truck's points `truck(t)` (its one cluster) and `background` beyond it; returns, per scan,
+/// the centres of the reported tracks.
+fn drive(
+    scans: u32,
+    truck: impl Fn(f64) -> Vec<Point>,
+    background: &[Point],
+) -> Vec<Vec<Vector2<f64>>> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let mut views = RecentViews::new(2.0);
     let ground = Ground::horizontal(0.0);
     let cdf = FLAT.cdf();
     let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
-    let mut errors = Vec::new();
-    for k in 0..30 {
+    let mut out = Vec::new();
+    for k in 0..scans {
         let t = f64::from(k) * 0.1;
-        let center = 15.0 + 8.0 * t;
-        let points = rear(center);
-        record_view(&mut views, t, pose, &points);
+        let points = truck(t);
+        record_view(&mut views, t, pose, points.iter().chain(background));
         let clouds = vec![points];
         let scan = ScanContext {
             timestamp: t,
@@ -55,13 +60,31 @@ fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
             views: Some(&views),
         };
         tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        let truth = Vector2::new(center, 0.0);
-        let error = tracker
-            .reported()
-            .map(|tr| (tr.state().center.xy() - truth).norm())
-            .fold(f64::INFINITY, f64::min);
-        errors.push(error);
+        out.push(
+            tracker
+                .reported()
+                .map(|tr| tr.state().center.xy())
+                .collect(),
+        );
     }
+    out
+}
+
+#[test]
+fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
+    let center = |t: f64| 15.0 + 8.0 * t;
+    let reported = drive(30, |t| rear(center(t)), &[]);
+    let errors: Vec<f64> = reported
+        .iter()
+        .enumerate()
+        .map(|(k, centres)| {
+            let truth = Vector2::new(center(k as f64 * 0.1), 0.0);
+            centres
+                .iter()
+                .map(|c| (c - truth).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
     // Seen moving within its first second; from then on within 1 m of its true centre.
     assert!(
         errors[15..].iter().all(|&e| e < 1.0),
@@ -113,34 +136,16 @@ fn wall() -> Vec<Point> {
 #[test]
 fn a_truck_passing_at_highway_speed_is_reported_from_its_third_scan() {
     // 30 m/s, 12 m to the left, from 30 m behind the sensor to 30 m ahead of it: 21 scans.
-    let mut tracker = Tracker::new(TrackConfig::default());
-    let mut views = RecentViews::new(2.0);
-    let ground = Ground::horizontal(0.0);
-    let cdf = FLAT.cdf();
-    let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
-    let background = wall();
-    let mut reported = Vec::new();
-    for k in 0..21 {
-        let t = f64::from(k) * 0.1;
-        let center = -30.0 + 30.0 * t;
-        let truck = side_and_end(center, 12.0);
-        record_view(&mut views, t, pose, truck.iter().chain(&background));
-        let clouds = vec![truck];
-        let scan = ScanContext {
-            timestamp: t,
-            pose,
-            ground: &ground,
-            range_limit: f64::INFINITY,
-            views: Some(&views),
-        };
-        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        let truth = Vector2::new(center, 12.0);
-        reported.push(
-            tracker
-                .reported()
-                .any(|tr| (tr.state().center.xy() - truth).norm() < 2.0),
-        );
-    }
+    let center = |t: f64| -30.0 + 30.0 * t;
+    let seen = drive(21, |t| side_and_end(center(t), 12.0), &wall());
+    let reported: Vec<bool> = seen
+        .iter()
+        .enumerate()
+        .map(|(k, centres)| {
+            let truth = Vector2::new(center(k as f64 * 0.1), 12.0);
+            centres.iter().any(|c| (c - truth).norm() < 2.0)
+        })
+        .collect();
     assert!(
         reported[2..].iter().all(|&r| r),
         "reported per scan: {reported:?}"

@@ -452,7 +452,14 @@ impl Tracker {
                     .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
                 config.classify.vote_memory,
             );
-            judge_motion(t, cluster.points, may_have_arrived, scan, config);
+            judge_motion(
+                t,
+                cluster.points,
+                &o.centroid,
+                may_have_arrived,
+                scan,
+                config,
+            );
         }
         t.settle_identity();
         trace_view("update", t, o);
@@ -539,7 +546,7 @@ impl Tracker {
             last_seen: (center.xy(), scan.timestamp),
         });
         if let Some(t) = self.tracks.last_mut() {
-            judge_motion(t, cluster.points, false, scan, config);
+            judge_motion(t, cluster.points, &o.centroid, false, scan, config);
             t.settle_identity();
             trace_view("birth", t, o);
         }
@@ -790,13 +797,15 @@ const FAST_PROBE_MIN_AGE: f64 = 0.05;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
 
-/// Judges whether track `t`, just matched to `points`, moves: where it was a moment ago is
-/// free space now (it left), or, when `may_have_arrived`, where it is now was free space
-/// across its width a moment ago (it arrived: the place it left may stay hidden behind it,
-/// when it comes nearer or follows the vehicle). Keeps fresh probes while it does not.
+/// Judges whether track `t`, just matched to `points` (centred at `centroid`), moves: where
+/// it was a moment ago is free space now (it left), or, when `may_have_arrived`, where it is
+/// now was free space across its width a moment ago (it arrived: the place it left may stay
+/// hidden behind it, when it comes nearer or follows the vehicle). Keeps fresh probes while
+/// it does not.
 fn judge_motion(
     t: &mut Track,
     points: &[Point],
+    centroid: &Vector3<f64>,
     may_have_arrived: bool,
     scan: &ScanContext<'_>,
     config: &TrackConfig,
@@ -817,7 +826,7 @@ fn judge_motion(
     }
     let c = &config.classify;
     let age = scan.timestamp - t.probe_time;
-    let min_age = if has_moved_far(&t.probes, points) {
+    let min_age = if has_moved_far(&t.probes, centroid) {
         FAST_PROBE_MIN_AGE
     } else {
         c.motion_probe_min_age
@@ -853,23 +862,15 @@ fn judge_motion(
     }
 }
 
-/// Whether the cluster `points` (its mean) lies farther than [`FAST_STEP`] from the `probes`
-/// kept of the track (theirs): a vehicle passing at highway speed, or the visible part of a
-/// wall sliding along with the sensor, which the probes' visibility then tells apart.
-fn has_moved_far(probes: &[Vector3<f64>], points: &[Point]) -> bool {
-    if probes.is_empty() || points.is_empty() {
+/// Whether the cluster centred at `centroid` lies farther than [`FAST_STEP`] from the mean
+/// of the `probes` kept of the track: a vehicle passing at highway speed, or the visible part
+/// of a wall sliding along with the sensor, which the probes' visibility then tells apart.
+fn has_moved_far(probes: &[Vector3<f64>], centroid: &Vector3<f64>) -> bool {
+    if probes.is_empty() {
         return false;
     }
-    let mean = |sum: Vector3<f64>, n: usize| sum / n as f64;
-    let then = mean(probes.iter().sum(), probes.len());
-    let now = mean(
-        points
-            .iter()
-            .map(|p| Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)))
-            .sum(),
-        points.len(),
-    );
-    (now - then).xy().norm() > FAST_STEP
+    let then = probes.iter().sum::<Vector3<f64>>() / probes.len() as f64;
+    (centroid - then).xy().norm() > FAST_STEP
 }
 
 /// Up to [`PROBES`] of a cluster's `points`, spread over it, that stand clear of the ground.
