@@ -384,10 +384,12 @@ mod tests {
             heading: 0.0,
             size: Vector2::new(4.5, 1.8),
             moving_vehicle: true,
+            moving_person: false,
         };
         assert_eq!(peel(&mut points, &then, &[vehicle]).len(), 1);
         let parked = PredictedBox {
             moving_vehicle: false,
+            moving_person: false,
             ..vehicle
         };
         assert_eq!(peel(&mut points, &then, &[parked]).len(), 2);

@@ -1,7 +1,9 @@
 //! Track-guided splitting: DBSCAN merges two riders a metre apart into one cluster; when a
 //! cluster holds the predicted boxes of several confirmed tracks, its points are shared out
 //! among them, each point to the box it lies in (or nearest to), so that every track keeps
-//! its own measurement and the riders keep their ids.
+//! its own measurement and the riders keep their ids. A cluster claimed by one moving person
+//! alone and reaching well beyond their box (a walker passing a bush, a parked car, a wall) is
+//! carved: the points near the box are the person, the rest a part of its own.
 
 use std::ops::Range;
 
@@ -18,6 +20,10 @@ const MIN_CLAIMED_POINTS: usize = 5;
 const CLAIM_MARGIN: f64 = 0.25;
 /// Points farther than this (m) from every claiming box form a part of their own.
 const OWNERLESS_DISTANCE: f64 = 1.0;
+/// A cluster claimed by one moving person is carved when at least [`MIN_CLAIMED_POINTS`] of
+/// its points lie this far (m) from their box: more than a swinging arm or a prediction a
+/// little off.
+const CARVE_REACH: f64 = 0.6;
 
 /// Reusable buffers of the split.
 #[derive(Debug, Default)]
@@ -39,7 +45,9 @@ impl Splitter {
     ) -> usize {
         self.claimants.clear();
         let bounds = bev_bounds(points);
+        let mut person = None;
         for bx in boxes {
+            let moving_person = bx.moving_person;
             let bx = BoxFrame::new(bx);
             if !bounds.is_some_and(|b| bx.may_reach(&b, CLAIM_MARGIN)) {
                 continue;
@@ -50,8 +58,14 @@ impl Splitter {
                 .take(MIN_CLAIMED_POINTS)
                 .count();
             if inside >= MIN_CLAIMED_POINTS {
+                if moving_person {
+                    person = Some(self.claimants.len());
+                }
                 self.claimants.push(bx);
             }
+        }
+        if let (1, Some(0)) = (self.claimants.len(), person) {
+            return self.carve(points, parts);
         }
         if self.claimants.len() < 2 {
             parts.push(0..points.len());
@@ -74,6 +88,29 @@ impl Splitter {
         }
         let owners = self.claimants.len() + 1;
         self.writer.write(points, &self.owner, owners, parts)
+    }
+
+    /// Carves the one claimant, a moving person, out of `points` when enough of them lie
+    /// [`CARVE_REACH`] beyond its box: the points within [`CLAIM_MARGIN`] of it are one part,
+    /// the others another. Otherwise the cluster stays whole.
+    fn carve(&mut self, points: &mut [Point], parts: &mut Vec<Range<usize>>) -> usize {
+        let person = &self.claimants[0];
+        let beyond = points
+            .iter()
+            .filter(|p| person.outside_distance(p) > CARVE_REACH)
+            .take(MIN_CLAIMED_POINTS)
+            .count();
+        if beyond < MIN_CLAIMED_POINTS {
+            parts.push(0..points.len());
+            return 1;
+        }
+        self.owner.clear();
+        self.owner.extend(
+            points
+                .iter()
+                .map(|p| u32::from(person.outside_distance(p) > CLAIM_MARGIN)),
+        );
+        self.writer.write(points, &self.owner, 2, parts)
     }
 }
 
@@ -168,6 +205,7 @@ mod tests {
             heading: 0.0,
             size: Vector2::new(1.8, 0.6),
             moving_vehicle: false,
+            moving_person: false,
         }
     }
 
@@ -207,6 +245,72 @@ mod tests {
         );
         assert_eq!(parts, vec![0..points.len()]);
         assert_eq!(points, before);
+    }
+
+    /// A low bush 1.6 m wide beside (x > 10.4) a pedestrian standing at (10, 0).
+    fn walker_by_a_bush() -> Vec<Point> {
+        let mut points = Vec::new();
+        for i in 0..5 {
+            for z in 0..15 {
+                let x = 9.8 + i as f32 * 0.1;
+                points.push(Point::new(x, 0.0, z as f32 * 0.12, 0.0));
+            }
+        }
+        for i in 0..16 {
+            for j in 0..8 {
+                let (x, y) = (10.5 + i as f32 * 0.1, -0.4 + j as f32 * 0.1);
+                points.push(Point::new(x, y, 0.5, 0.0));
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn a_moving_person_is_carved_out_of_what_they_pass() {
+        let mut points = walker_by_a_bush();
+        let walker = PredictedBox {
+            size: Vector2::new(0.8, 0.6),
+            moving_person: true,
+            ..predicted(1, 10.0, 0.0)
+        };
+        let mut parts = Vec::new();
+        assert_eq!(
+            Splitter::default().split(&mut points, &[walker], &mut parts),
+            2
+        );
+        let person = &points[parts[0].clone()];
+        assert!(
+            person.iter().all(|p| p.x < 10.7),
+            "only the walker and the bush's edge"
+        );
+        assert_eq!(person.iter().filter(|p| p.x < 10.3).count(), 5 * 15);
+        assert!(points[parts[1].clone()].iter().all(|p| p.x > 10.6));
+        // A person not seen to move (a post by a hedge looks alike) leaves the cluster whole.
+        let still = PredictedBox {
+            moving_person: false,
+            ..walker
+        };
+        parts.clear();
+        assert_eq!(
+            Splitter::default().split(&mut walker_by_a_bush(), &[still], &mut parts),
+            1
+        );
+    }
+
+    #[test]
+    fn a_moving_person_with_little_beyond_their_box_stays_whole() {
+        let mut points = rider(10.0, 0.0);
+        // An arm's few returns 0.7 m beyond the box.
+        points.extend((0..3).map(|i| Point::new(11.6, 0.0, 1.0 + i as f32 * 0.1, 0.0)));
+        let rider_box = PredictedBox {
+            moving_person: true,
+            ..predicted(1, 10.0, 0.0)
+        };
+        let mut parts = Vec::new();
+        assert_eq!(
+            Splitter::default().split(&mut points, &[rider_box], &mut parts),
+            1
+        );
     }
 
     #[test]

@@ -83,6 +83,9 @@ pub struct PredictedBox {
     /// A vehicle seen to move: its front stands where free space was a moment ago, and is
     /// no newcomer to peel off it (see [`super::arrivals`]).
     pub moving_vehicle: bool,
+    /// A pedestrian or cyclist seen to move: where it walks into a bush, a parked car or a
+    /// wall and DBSCAN joins them, its box carves it out (see [`super::split`]).
+    pub moving_person: bool,
 }
 
 /// One track (tentative or confirmed, object or not yet identified).
@@ -278,12 +281,21 @@ impl Tracker {
             .filter(|t| t.hits >= self.confirmed_hits())
             .filter_map(move |t| {
                 let class = t.identity()?;
+                let moving_person =
+                    t.moving && matches!(class, ObjectClass::Pedestrian | ObjectClass::Cyclist);
+                // A person's smoothed size creeps up with every view that holds a little of
+                // what they pass; their class's size is what carves them out of it.
+                let size = match self.config.classify.size_of(class) {
+                    Some(prior) if moving_person => Vector2::new(prior.length, prior.width),
+                    _ => t.size.xy(),
+                };
                 Some(PredictedBox {
                     id: t.id,
                     center: t.motion.position().xy() + t.motion.velocity() * dt,
                     heading: t.motion.yaw(),
-                    size: t.size.xy(),
+                    size,
                     moving_vehicle: t.moving && class == ObjectClass::Car,
+                    moving_person,
                 })
             })
     }
