@@ -34,7 +34,9 @@ pub struct ClassifyConfig {
     /// 9 × 2.5 × 3.3 m.
     pub truck_size: ClassSize,
     /// A moving car-class track this tall (m) or taller is sized as a truck: seen from behind, its
-    /// length never shows, and a car's length would put its centre metres off. Default 2.8.
+    /// length never shows, and a car's length would put its centre metres off (so is one whose
+    /// view the field of view cuts 2.7 m up or higher: farther than 28 m a truck looks no
+    /// taller). Default 2.8.
     pub truck_min_height: f64,
     /// Typical cyclist. Default 1.8 × 0.6 × 1.75 m.
     pub cyclist_size: ClassSize,

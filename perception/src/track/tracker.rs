@@ -9,7 +9,9 @@ use rayon::prelude::*;
 use super::assignment::Assigner;
 use super::association::{PairScore, TrackPairs, associate};
 use super::box_fit::{length_heading, place_box};
-use super::classify::{ClassVotes, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape};
+use super::classify::{
+    ClassVotes, ClassifyConfig, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape,
+};
 use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
 use super::ground::Ground;
@@ -706,10 +708,18 @@ fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> 
     });
     let c = &config.classify;
     let prior = match class {
-        Some(ObjectClass::Car) if t.moving && t.size.z >= c.truck_min_height => Some(c.truck_size),
+        Some(ObjectClass::Car) if t.moving && is_tall(t, o, c) => Some(c.truck_size),
         other => other.and_then(|class| c.size_of(class)),
     };
     prior.map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
+}
+
+/// Whether moving car-class track `t` is a truck or a bus: its smoothed height reaches
+/// `truck_min_height`, or view `o` is cut by the top of the field of view no lower than
+/// [`TRUNCATED_TRUCK_TOP`] (30 m away the field of view ends 2.8 m above the ground, so a
+/// truck seen there never shows its height).
+fn is_tall(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
+    t.size.z >= c.truck_min_height || (o.shape.truncated && o.shape.top >= TRUNCATED_TRUCK_TOP)
 }
 
 /// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
@@ -777,6 +787,9 @@ fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
     along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
 }
 
+/// A view cut by the field of view this high (m) or higher is a truck's or a bus's: vans
+/// and cars are lower.
+const TRUNCATED_TRUCK_TOP: f64 = 2.7;
 /// Probes kept per track.
 const PROBES: usize = 24;
 /// Probes lower than this above the ground (m) are not kept: the ground answers for them.
