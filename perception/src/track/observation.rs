@@ -23,8 +23,12 @@ const SECOND_FACE_COLUMNS: f64 = 3.0;
 /// The narrowest second face of a box-shaped object (m): a car's rear.
 const SECOND_FACE_DEPTH: f64 = 1.6;
 
-/// A cluster with a point this close (m) to the range limit is cut by it.
-const CLIP_MARGIN: f64 = 1.0;
+/// A cluster with a point this close (m) to the range limit is cut by it. Where the limit
+/// cuts a surface, its returns run on to the limit, 0.15 m apart along a scan line at 50 m;
+/// 1 m left every person and car in the last 2-3 m before a 50 m limit unidentified (on the
+/// simulated drives 0.4 m scored a mean MOTA 0.4 point higher, 0.15 m took more clutter
+/// at the limit for objects).
+const CLIP_MARGIN: f64 = 0.4;
 
 /// One cluster as the tracker sees it.
 #[derive(Clone, Debug, PartialEq)]
@@ -256,6 +260,24 @@ mod tests {
         assert!((o.shape.top - 1.5).abs() < 0.1, "top {}", o.shape.top);
         assert!((o.ground_z - 0.2).abs() < 0.05, "ground {}", o.ground_z);
         assert_eq!(o.verdict, ShapeVerdict::Object(ObjectClass::Car));
+    }
+
+    #[test]
+    fn only_a_view_reaching_the_range_limit_is_clipped() {
+        let ground = Ground::horizontal(0.0);
+        // A pedestrian whose far side is 0.6 m short of the 50 m limit is whole...
+        let whole = box_points(Vector3::new(49.1, 0.0, 0.0), 0.6, 0.5, 1.7);
+        let o = observe(&whole, &ground);
+        assert!(!o.clipped);
+        assert_eq!(o.verdict, ShapeVerdict::Object(ObjectClass::Pedestrian));
+        // ...a car whose returns run on to it may be longer than it looks.
+        let cut: Vec<Point> = box_points(Vector3::new(48.0, 0.0, 0.0), 4.5, 1.8, 1.5)
+            .into_iter()
+            .filter(|p| p.x.hypot(p.y) <= 50.0)
+            .collect();
+        let o = observe(&cut, &ground);
+        assert!(o.clipped);
+        assert_eq!(o.verdict, ShapeVerdict::Unknown);
     }
 
     #[test]
