@@ -375,6 +375,29 @@ fn a_person_stepping_up_beside_a_tracked_person_is_a_second_track() {
 }
 
 #[test]
+fn a_person_stepping_up_beside_tracked_structure_is_reported() {
+    // A kiosk taller than any car (an object only if it moves: tracked, never reported), and a
+    // person who stops 0.2 m beside it, inside its track's box and margin: no fragment of an
+    // object, but a person.
+    let kiosk = Body {
+        start: Vector2::new(20.0, 2.0),
+        velocity: Vector2::zeros(),
+        size: Vector3::new(2.0, 1.5, 2.6),
+        rider: false,
+    };
+    let person = pedestrian((20.0, 0.8));
+    let out = run(TrackConfig::default(), &[kiosk, person], 14, |k, i| {
+        i == 0 || k >= 5
+    });
+    assert!(out[4].is_empty(), "the kiosk was reported: {:?}", out[4]);
+    for (k, reported) in out.iter().enumerate().skip(9) {
+        let (_, class, _) = near(reported, person.center(0.0))
+            .unwrap_or_else(|| panic!("scan {k}: the person is not reported: {reported:?}"));
+        assert_eq!(class, ObjectClass::Pedestrian);
+    }
+}
+
+#[test]
 fn a_car_driving_off_keeps_its_class_while_the_range_limit_cuts_its_views() {
     // Identified up close, then 18 scans at the 45 m limit: such views tell nothing of what
     // the object is, and do not outvote the views that did.

@@ -488,13 +488,14 @@ impl Tracker {
         }
         let c = o.rect.center;
         // A person is not split into person-shaped parts (stacked ones were joined already): a
-        // sure person beside a person's track is another person.
+        // sure person beside a person's track is another person, and beside a track of no
+        // object (a tree, a kiosk) a person, not a fragment of it.
         let sure_person = |class| class == ObjectClass::Pedestrian;
         let person_view = matches!(o.verdict, ShapeVerdict::Object(class) if sure_person(class));
         !self.tracks.iter().any(|t| {
             t.hits >= self.config.birth_hits
                 && inside_box(t, &c, FRAGMENT_MARGIN)
-                && !(person_view && t.identity().is_some_and(sure_person))
+                && !(person_view && t.identity().is_none_or(sure_person))
         })
     }
 
