@@ -4,7 +4,8 @@
 //! while the place the person stands now was free space then, the laser having passed through
 //! it to hit something farther (the wall behind). The points of a large cluster that stand
 //! where an earlier scan saw through, grouped in the ground plane, that make up a compact,
-//! person-sized group, each become a cluster of their own; the rest stays as it was.
+//! person-sized group, each become a cluster of their own, with the points beside and up to
+//! a little above them (not the crown of a tree they walk under); the rest stays as it was.
 //!
 //! A static scene gives no such points (a point seen now is hit or hidden then, never seen
 //! through); a moving vehicle's arrivals span its width, wider than a person, and a cluster
@@ -23,8 +24,10 @@ use super::visibility::Visibility;
 use crate::Point;
 
 /// Clusters shorter than this (m, longer side of their ground-plane bounds) are left alone:
-/// objects, which the tracker and the person split deal with.
-const MIN_EXTENT: f32 = 3.0;
+/// people and riders, which the person split deals with. A walker under a tree's crown makes
+/// a cluster of 2-3 m (with 3 m, and the crown peeled with the walker, the simulated drives'
+/// mean MOTA was 0.1 point lower).
+const MIN_EXTENT: f32 = 2.0;
 /// Points lower than this (m) above the ground say nothing: kerbs, the ground's own edge.
 const MIN_HEIGHT: f64 = 0.3;
 /// Half-width (m) of the window a point must be seen through across, at its range.
@@ -48,6 +51,9 @@ const MAX_STRAY_SHARE: f64 = 0.02;
 /// Points within this (m) of a peeled group's bounds go with it: the parts of the body
 /// that stand where the person already stood a moment ago.
 const GROW: f32 = 0.1;
+/// Points up to this far (m) above a peeled group's highest arrival go with it: the top of
+/// the head, seen where it already was a moment ago.
+const GROW_UP: f64 = 0.3;
 
 /// Groups farther than this (m) from the sensor are left in their cluster: the scans'
 /// columns lie too far apart there to tell a newcomer from a pose a little off.
@@ -98,8 +104,12 @@ impl Group {
         self.arrived >= MIN_ARRIVED && side <= MAX_SIDE && self.top >= MIN_TOP
     }
 
-    fn holds(&self, p: &Point) -> bool {
-        p.x >= self.min[0] - GROW
+    /// Whether `p`, `height` m above the ground, is part of the group: within [`GROW`] of its
+    /// ground-plane bounds, and no higher than its top and [`GROW_UP`] (a tree's crown over a
+    /// walker is not theirs).
+    fn holds(&self, p: &Point, height: f64) -> bool {
+        height <= self.top + GROW_UP
+            && p.x >= self.min[0] - GROW
             && p.x <= self.max[0] + GROW
             && p.y >= self.min[1] - GROW
             && p.y <= self.max[1] + GROW
@@ -152,9 +162,14 @@ impl ArrivalPeeler {
         // Owner of each point: the first peeled group holding it, else the rest (`peeled`).
         self.owner.clear();
         for p in points.iter() {
+            let height = scene.ground.height(&Vector3::new(
+                f64::from(p.x),
+                f64::from(p.y),
+                f64::from(p.z),
+            ));
             let owner = self.groups[..peeled]
                 .iter()
-                .position(|g| g.holds(p))
+                .position(|g| g.holds(p, height))
                 .unwrap_or(peeled);
             self.owner.push(owner as u32);
         }
@@ -351,6 +366,34 @@ mod tests {
         assert_eq!(parts[0].len(), person_points);
         assert!(points[parts[0].clone()].iter().all(|p| p.x < 9.5));
         assert!(points[parts[1].clone()].iter().all(|p| p.x == 10.0));
+    }
+
+    #[test]
+    fn a_person_walking_under_a_tree_leaves_its_crown_behind() {
+        // A crown 2.2-2.9 m up over (8-10, 0-2), before a wall.
+        let mut crown = Vec::new();
+        for i in 0..20 {
+            for j in 0..20 {
+                for k in 0..5 {
+                    let z = ROAD as f32 + 2.2 + k as f32 * 0.15;
+                    crown.push(Point::new(8.0 + i as f32 * 0.1, j as f32 * 0.1, z, 0.0));
+                }
+            }
+        }
+        let mut scene = wall(10.0);
+        scene.extend(&crown);
+        let then = view(&scene);
+        let mut points = scene.clone();
+        points.extend(person(9.0, 1.0));
+        let parts = peel(&mut points, &then, &[]);
+        assert_eq!(parts.len(), 2, "{parts:?}");
+        let peeled = &points[parts[0].clone()];
+        assert_eq!(
+            peeled.len(),
+            person(9.0, 1.0).len(),
+            "the crown went with the person"
+        );
+        assert!(peeled.iter().all(|p| p.z < ROAD as f32 + 1.9));
     }
 
     #[test]
