@@ -3,8 +3,9 @@
 //!
 //! A parked car or a standing person hidden for a few seconds (a bus passes, the sensor drives
 //! past a hedge) loses its track to the confidence decay. It has not moved in the world frame:
-//! a track born near where it was last seen, soon after, is that object again.
-//! Moving objects are not remembered: after seconds unseen, where they are is a guess.
+//! a track born near where it was last seen, soon after, is that object again. A moving object
+//! is remembered for [`MOVING_MEMORY`] only, where its velocity takes it: a walker lost in a
+//! crowd for a moment, or behind a post.
 
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
@@ -29,13 +30,35 @@ impl Default for DormantConfig {
     }
 }
 
+/// Seconds a dropped moving object's id is kept (at most the configured memory): after
+/// longer unseen, where it is is a guess.
+pub const MOVING_MEMORY: f64 = 1.5;
+
 /// One remembered object.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Dormant {
     id: u64,
-    position: Vector2<f64>,
+    /// Where it was last seen (world frame), when (s), and its velocity then (m/s).
+    seen: (Vector2<f64>, f64),
+    velocity: Vector2<f64>,
     /// Time (s) its track was dropped.
     dropped: f64,
+}
+
+impl Dormant {
+    /// Where it is at time `now`.
+    fn position(&self, now: f64) -> Vector2<f64> {
+        self.seen.0 + self.velocity * (now - self.seen.1)
+    }
+
+    /// How long it is remembered (s).
+    fn memory(&self, config: &DormantConfig) -> f64 {
+        if self.velocity == Vector2::zeros() {
+            config.memory
+        } else {
+            config.memory.min(MOVING_MEMORY)
+        }
+    }
 }
 
 /// The remembered objects.
@@ -54,12 +77,20 @@ impl DormantTracks {
         }
     }
 
-    /// Remembers object `id`, last seen at `position` (world frame) at time `now`.
-    pub fn remember(&mut self, id: u64, position: Vector2<f64>, now: f64) {
+    /// Remembers object `id`, dropped at time `now`: last `seen` at a place (world frame) and
+    /// time, moving at `velocity` (zero for a static object).
+    pub fn remember(
+        &mut self,
+        id: u64,
+        seen: (Vector2<f64>, f64),
+        velocity: Vector2<f64>,
+        now: f64,
+    ) {
         if self.config.memory > 0.0 {
             self.remembered.push(Dormant {
                 id,
-                position,
+                seen,
+                velocity,
                 dropped: now,
             });
         }
@@ -68,19 +99,19 @@ impl DormantTracks {
     /// Forgets what was dropped more than the memory's length before `now`, or after it (the
     /// clock went back: another drive).
     pub fn expire(&mut self, now: f64) {
-        let memory = self.config.memory;
+        let config = &self.config;
         self.remembered
-            .retain(|d| (0.0..=memory).contains(&(now - d.dropped)));
+            .retain(|d| (0.0..=d.memory(config)).contains(&(now - d.dropped)));
     }
 
-    /// The id of the nearest remembered object within the radius of `position`, forgotten
-    /// now that it is claimed.
-    pub fn claim(&mut self, position: Vector2<f64>) -> Option<u64> {
+    /// The id of the nearest remembered object within the radius of `position` at time `now`,
+    /// forgotten now that it is claimed.
+    pub fn claim(&mut self, position: Vector2<f64>, now: f64) -> Option<u64> {
         let radius = self.config.radius;
         let (k, _) = self
             .remembered
             .iter()
-            .map(|d| (d.position - position).norm())
+            .map(|d| (d.position(now) - position).norm())
             .enumerate()
             .filter(|&(_, distance)| distance <= radius)
             .min_by(|a, b| a.1.total_cmp(&b.1))?;
@@ -95,22 +126,40 @@ mod tests {
     #[test]
     fn the_nearest_object_within_the_radius_is_claimed_once_until_forgotten() {
         let mut memory = DormantTracks::new(DormantConfig::default());
-        memory.remember(7, Vector2::new(10.0, 2.0), 1.0);
-        memory.remember(9, Vector2::new(10.0, 3.2), 1.5);
-        assert_eq!(memory.claim(Vector2::new(20.0, 2.0)), None);
-        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), Some(7));
-        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), Some(9));
-        assert_eq!(memory.claim(Vector2::new(10.2, 2.3)), None);
-        memory.remember(11, Vector2::new(0.0, 0.0), 2.0);
+        memory.remember(7, (Vector2::new(10.0, 2.0), 1.0), Vector2::zeros(), 1.0);
+        memory.remember(9, (Vector2::new(10.0, 3.2), 1.5), Vector2::zeros(), 1.5);
+        assert_eq!(memory.claim(Vector2::new(20.0, 2.0), 0.0), None);
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3), 0.0), Some(7));
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3), 0.0), Some(9));
+        assert_eq!(memory.claim(Vector2::new(10.2, 2.3), 0.0), None);
+        memory.remember(11, (Vector2::new(0.0, 0.0), 2.0), Vector2::zeros(), 2.0);
         memory.expire(6.9);
-        assert_eq!(memory.claim(Vector2::new(0.5, 0.0)), Some(11));
-        memory.remember(12, Vector2::new(0.0, 0.0), 2.0);
+        assert_eq!(memory.claim(Vector2::new(0.5, 0.0), 0.0), Some(11));
+        memory.remember(12, (Vector2::new(0.0, 0.0), 2.0), Vector2::zeros(), 2.0);
         memory.expire(7.1);
-        assert_eq!(memory.claim(Vector2::new(0.0, 0.0)), None);
+        assert_eq!(memory.claim(Vector2::new(0.0, 0.0), 0.0), None);
         // A clock that goes back starts over.
-        memory.remember(13, Vector2::new(0.0, 0.0), 100.0);
+        memory.remember(13, (Vector2::new(0.0, 0.0), 100.0), Vector2::zeros(), 100.0);
         memory.expire(0.1);
-        assert_eq!(memory.claim(Vector2::new(0.0, 0.0)), None);
+        assert_eq!(memory.claim(Vector2::new(0.0, 0.0), 0.0), None);
+    }
+
+    #[test]
+    fn a_moving_object_is_claimed_where_it_went_for_a_short_while() {
+        let mut memory = DormantTracks::new(DormantConfig::default());
+        // A walker at 1.2 m/s along x, last seen at (10, 2) at t = 1.0, dropped at t = 1.3.
+        let walker = (Vector2::new(10.0, 2.0), 1.0);
+        memory.remember(4, walker, Vector2::new(1.2, 0.0), 1.3);
+        assert_eq!(
+            memory.claim(Vector2::new(10.0, 2.0), 2.5),
+            None,
+            "it has walked on"
+        );
+        assert_eq!(memory.claim(Vector2::new(11.7, 2.1), 2.5), Some(4));
+        // Not remembered for as long as a static object.
+        memory.remember(5, walker, Vector2::new(1.2, 0.0), 1.3);
+        memory.expire(1.3 + MOVING_MEMORY + 0.1);
+        assert_eq!(memory.claim(Vector2::new(12.9, 2.0), 3.0), None);
     }
 
     #[test]
@@ -119,7 +168,7 @@ mod tests {
             memory: 0.0,
             radius: 1.0,
         });
-        memory.remember(1, Vector2::zeros(), 0.0);
-        assert_eq!(memory.claim(Vector2::zeros()), None);
+        memory.remember(1, (Vector2::zeros(), 0.0), Vector2::zeros(), 0.0);
+        assert_eq!(memory.claim(Vector2::zeros(), 0.0), None);
     }
 }

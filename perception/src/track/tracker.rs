@@ -354,8 +354,13 @@ impl Tracker {
         dormant.expire(scan.timestamp);
         self.tracks.retain(|t| {
             let lost = confidence.is_lost(t.confidence);
-            if lost && t.hits >= CONFIRMED_HITS && !t.moving && t.identity().is_some() {
-                dormant.remember(t.id, t.last_seen.0, scan.timestamp);
+            if lost && t.hits >= CONFIRMED_HITS && t.identity().is_some() {
+                let velocity = if t.moving {
+                    t.motion.velocity()
+                } else {
+                    Vector2::zeros()
+                };
+                dormant.remember(t.id, t.last_seen, velocity, scan.timestamp);
             }
             !lost
         });
@@ -529,8 +534,9 @@ impl Tracker {
         let range = (o.centroid - scan.sensor()).xy().norm();
         let mut votes = ClassVotes::default();
         votes.add(o.verdict, config.classify.vote_memory);
-        // A static object seen again where its dropped track left it gets its id back.
-        let id = match self.dormant.claim(center.xy()) {
+        // An object seen again where its dropped track left it, or where it was going, gets
+        // its id back.
+        let id = match self.dormant.claim(center.xy(), scan.timestamp) {
             Some(id) => id,
             None => {
                 let id = self.next_id;
