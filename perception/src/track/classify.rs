@@ -266,6 +266,10 @@ pub enum ShapeVerdict {
     Unknown,
 }
 
+/// A view cut by the field of view whose upper third is this many times wider than its lower
+/// third is no sure car.
+const TRUNCATED_CROWN_SPREAD: f64 = 1.3;
+
 /// The verdict on one view.
 pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     use ShapeVerdict::{Movable, Object, Structure};
@@ -329,7 +333,11 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     }
     // A top cut by the field of view is no lower than the cut, which is where it was seen:
     // `top` bounds the height from below either way.
+    // A view cut by the field of view that widens upwards is a crown over its trunk as often
+    // as a car: a van's box is no wider at the top.
+    let cut_crown = f.truncated && f.upper_width > TRUNCATED_CROWN_SPREAD * f.lower_width;
     if f.top <= c.car_max_height
+        && !cut_crown
         && f.length <= c.car_max_length
         && f.length >= c.static_car_min_length
     {
@@ -449,6 +457,38 @@ mod tests {
             surface_variation: 0.0,
             points_at_10m: 300.0,
         }
+    }
+
+    #[test]
+    fn a_cut_view_widening_upwards_is_no_sure_car() {
+        let c = ClassifyConfig::default();
+        // 10 m away the field of view ends 2.1 m up: a van's box and a crown over its trunk
+        // are both cut there.
+        let van = ShapeFeatures {
+            truncated: true,
+            ..features(4.9, 2.0, 2.05, 4.45, 4.85)
+        };
+        assert_eq!(
+            classify_shape(&van, &c),
+            ShapeVerdict::Object(ObjectClass::Car)
+        );
+        let crown = ShapeFeatures {
+            truncated: true,
+            ..features(3.0, 2.4, 2.1, 3.0, 1.7)
+        };
+        assert_eq!(
+            classify_shape(&crown, &c),
+            ShapeVerdict::Movable(ObjectClass::Car)
+        );
+        // Seen whole, a car's roof is narrower than its body, never a crown.
+        let uncut = ShapeFeatures {
+            truncated: false,
+            ..crown
+        };
+        assert_eq!(
+            classify_shape(&uncut, &c),
+            ShapeVerdict::Object(ObjectClass::Car)
+        );
     }
 
     #[test]
