@@ -75,11 +75,10 @@ fn drive(
     out
 }
 
-#[test]
-fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
-    let center = |t: f64| 15.0 + 8.0 * t;
-    let reported = drive(30, |t| rear(center(t)), &[]);
-    let errors: Vec<f64> = reported
+/// Per scan of `reported`, the distance (m) from the truck's true centre, `center(t)` metres
+/// ahead, to the nearest reported track (infinite when none is).
+fn centre_errors(reported: &[Vec<Vector2<f64>>], center: impl Fn(f64) -> f64) -> Vec<f64> {
+    reported
         .iter()
         .enumerate()
         .map(|(k, centres)| {
@@ -89,7 +88,14 @@ fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
                 .map(|c| (c - truth).norm())
                 .fold(f64::INFINITY, f64::min)
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn a_truck_seen_from_behind_is_centred_with_a_trucks_length() {
+    let center = |t: f64| 15.0 + 8.0 * t;
+    let reported = drive(30, |t| rear(center(t)), &[]);
+    let errors = centre_errors(&reported, center);
     // Seen moving within its first second; from then on within 1 m of its true centre.
     assert!(
         errors[15..].iter().all(|&e| e < 1.0),
@@ -104,17 +110,7 @@ fn a_truck_whose_top_the_field_of_view_cuts_is_centred_with_a_trucks_length() {
     let center = |t: f64| 28.0 + LENGTH / 2.0 + 1.5 * t;
     let seen_top = |x: f64| SENSOR_Z + (x - LENGTH / 2.0) * 2.0f64.to_radians().tan();
     let reported = drive(16, |t| rear_up_to(center(t), seen_top(center(t))), &[]);
-    let errors: Vec<f64> = reported
-        .iter()
-        .enumerate()
-        .map(|(k, centres)| {
-            let truth = Vector2::new(center(k as f64 * 0.1), 0.0);
-            centres
-                .iter()
-                .map(|c| (c - truth).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect();
+    let errors = centre_errors(&reported, center);
     assert!(
         errors[13..].iter().all(|&e| e < 1.0),
         "centre errors (m) per scan: {errors:.2?}"

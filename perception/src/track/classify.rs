@@ -332,9 +332,8 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         return Structure(Foliage);
     }
     // A top cut by the field of view is no lower than the cut, which is where it was seen:
-    // `top` bounds the height from below either way.
-    // A view cut by the field of view that widens upwards is a crown over its trunk as often
-    // as a car: a van's box is no wider at the top.
+    // `top` bounds the height from below either way. A cut view that widens upwards is a
+    // crown over its trunk as often as a car: a van's box is no wider at the top.
     let cut_crown = f.truncated && f.upper_width > TRUNCATED_CROWN_SPREAD * f.lower_width;
     if f.top <= c.car_max_height
         && !cut_crown

@@ -45,9 +45,7 @@ impl Splitter {
     ) -> usize {
         self.claimants.clear();
         let bounds = bev_bounds(points);
-        let mut person = None;
         for bx in boxes {
-            let moving_person = bx.moving_person;
             let bx = BoxFrame::new(bx);
             if !bounds.is_some_and(|b| bx.may_reach(&b, CLAIM_MARGIN)) {
                 continue;
@@ -58,13 +56,12 @@ impl Splitter {
                 .take(MIN_CLAIMED_POINTS)
                 .count();
             if inside >= MIN_CLAIMED_POINTS {
-                if moving_person {
-                    person = Some(self.claimants.len());
-                }
                 self.claimants.push(bx);
             }
         }
-        if let (1, Some(0)) = (self.claimants.len(), person) {
+        if let [person] = self.claimants.as_slice()
+            && person.moving_person
+        {
             return self.carve(points, parts);
         }
         if self.claimants.len() < 2 {
@@ -131,6 +128,7 @@ struct BoxFrame {
     half: Vector2<f64>,
     sin: f64,
     cos: f64,
+    moving_person: bool,
 }
 
 impl BoxFrame {
@@ -141,6 +139,7 @@ impl BoxFrame {
             half: bx.size / 2.0,
             sin,
             cos,
+            moving_person: bx.moving_person,
         }
     }
 

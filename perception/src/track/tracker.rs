@@ -715,17 +715,21 @@ fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> 
     });
     let c = &config.classify;
     let prior = match class {
-        Some(ObjectClass::Car) if t.moving && is_tall(t, o, c) => Some(c.truck_size),
+        Some(ObjectClass::Car) if t.moving && is_truck(t, o, c) => Some(c.truck_size),
         other => other.and_then(|class| c.size_of(class)),
     };
     prior.map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
 }
 
+/// A view cut by the field of view this high (m) or higher is a truck's or a bus's: vans
+/// and cars are lower.
+const TRUNCATED_TRUCK_TOP: f64 = 2.7;
+
 /// Whether moving car-class track `t` is a truck or a bus: its smoothed height reaches
 /// `truck_min_height`, or view `o` is cut by the top of the field of view no lower than
 /// [`TRUNCATED_TRUCK_TOP`] (30 m away the field of view ends 2.8 m above the ground, so a
 /// truck seen there never shows its height).
-fn is_tall(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
+fn is_truck(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
     t.size.z >= c.truck_min_height || (o.shape.truncated && o.shape.top >= TRUNCATED_TRUCK_TOP)
 }
 
@@ -794,9 +798,6 @@ fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
     along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
 }
 
-/// A view cut by the field of view this high (m) or higher is a truck's or a bus's: vans
-/// and cars are lower.
-const TRUNCATED_TRUCK_TOP: f64 = 2.7;
 /// Probes kept per track.
 const PROBES: usize = 24;
 /// Probes lower than this above the ground (m) are not kept: the ground answers for them.
