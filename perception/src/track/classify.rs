@@ -230,6 +230,8 @@ pub struct ShapeFeatures {
     /// The view's points scaled to what it would hold 10 m from the sensor (× (range /
     /// 10 m)², range to its centre): how densely the scanner sampled it.
     pub points_at_10m: f64,
+    /// BEV distance (m) from the sensor to the view's centre.
+    pub range: f64,
 }
 
 /// Why a view is static structure.
@@ -455,6 +457,7 @@ mod tests {
             oblique_face: false,
             surface_variation: 0.0,
             points_at_10m: 300.0,
+            range: 10.0,
         }
     }
 

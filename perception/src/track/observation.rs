@@ -17,7 +17,7 @@ const MIN_OBLIQUE_FACE: f64 = 1.2;
 /// far enough beyond them that a box's second face would show (see [`second_face_offset`]).
 const OBLIQUE_MARGIN: f64 = 1.0;
 /// Horizontal angle between two columns of a KITTI-like scan (rad, ~0.17°).
-const SCAN_AZIMUTH_STEP: f64 = 0.003;
+pub(crate) const SCAN_AZIMUTH_STEP: f64 = 0.003;
 /// Columns a second face must span to be surely seen.
 const SECOND_FACE_COLUMNS: f64 = 3.0;
 /// The narrowest second face of a box-shaped object (m): a car's rear.
@@ -150,6 +150,7 @@ impl Observer {
             oblique_face,
             surface_variation: f64::from(surface_variation),
             points_at_10m: points.len() as f64 * (centroid - sensor).xy().norm_squared() / 100.0,
+            range: (centroid - sensor).xy().norm(),
         };
         let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
         Observation {
