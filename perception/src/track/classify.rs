@@ -94,7 +94,11 @@ pub struct ClassifyConfig {
     /// A static car shows a side at least this long (m): its back is this wide. Default 1.6.
     pub static_car_min_length: f64,
     /// A car's upper third (roof, windows) is at least this fraction of its lower third's
-    /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.4.
+    /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.33 (the
+    /// windows return little, and 35-50 m away the side of a car showed an upper third of
+    /// 0.35-0.4 of its lower; on the simulated drives 0.4 / 0.33 / 0.3 gave a mean MOTA of
+    /// 89.08 / 89.41 / 89.42 %, KITTI tracking 0000 the same). Views cut by the field of view
+    /// need [`CUT_VIEW_MIN_UPPER_RATIO`].
     pub car_min_upper_ratio: f64,
     /// Highest mean surface variation of a car's view: a car's body is smooth, the returns
     /// from inside a bush or a hedge of a car's size are scattered. Default 0.065 (views of cars
@@ -177,7 +181,7 @@ impl Default for ClassifyConfig {
             car_max_width: 2.6,
             car_max_length: 6.5,
             static_car_min_length: 1.6,
-            car_min_upper_ratio: 0.4,
+            car_min_upper_ratio: 0.33,
             car_max_surface_variation: 0.065,
             person_max_surface_variation: 0.11,
             person_min_points_at_10m: 130.0,
@@ -272,6 +276,21 @@ pub enum ShapeVerdict {
 /// third is no sure car.
 const TRUNCATED_CROWN_SPREAD: f64 = 1.3;
 
+/// The least fraction of its lower third's extent the upper third of a view cut by the field
+/// of view spans, if it is a car: a car's roof lies below the sensor and is never cut, and a
+/// bush cut 2.2 m up, 1.4 m wide there over 4 m below (KITTI tracking 0000), is no car.
+const CUT_VIEW_MIN_UPPER_RATIO: f64 = 0.4;
+
+/// The least fraction of its lower third's extent the upper third of view `f` spans, if it
+/// is a car.
+fn car_min_upper_ratio(f: &ShapeFeatures, c: &ClassifyConfig) -> f64 {
+    if f.truncated {
+        c.car_min_upper_ratio.max(CUT_VIEW_MIN_UPPER_RATIO)
+    } else {
+        c.car_min_upper_ratio
+    }
+}
+
 /// The verdict on one view.
 pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     use ShapeVerdict::{Movable, Object, Structure};
@@ -326,7 +345,7 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     }
     let grounded_box = (f.length > c.pedestrian_max_length || f.width > c.person_max_width)
         && f.bottom <= c.car_max_bottom
-        && f.upper_width >= c.car_min_upper_ratio * f.lower_width;
+        && f.upper_width >= car_min_upper_ratio(f, c) * f.lower_width;
     if !grounded_box {
         return ShapeVerdict::Unknown;
     }
@@ -459,6 +478,24 @@ mod tests {
             points_at_10m: 300.0,
             range: 10.0,
         }
+    }
+
+    #[test]
+    fn a_far_cars_side_narrow_on_top_is_a_car_unless_cut() {
+        // 3.5 m of a car's side: the roof's returns span 1.3 m of it, the body's 3.5 m.
+        let config = ClassifyConfig::default();
+        let side = features(3.5, 0.5, 1.4, 1.3, 3.5);
+        assert_eq!(
+            classify_shape(&side, &config),
+            ShapeVerdict::Object(ObjectClass::Car)
+        );
+        // Cut by the field of view 2.2 m up, as narrow on top: a bush's crown.
+        let cut = ShapeFeatures {
+            truncated: true,
+            top: 2.2,
+            ..side
+        };
+        assert_eq!(classify_shape(&cut, &config), ShapeVerdict::Unknown);
     }
 
     #[test]
