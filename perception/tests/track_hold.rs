@@ -93,30 +93,20 @@ fn a_car_seen_in_one_scan_is_reported_in_that_scan_only() {
     assert_eq!(&out[..5], [true, true, true, true, false], "{out:?}");
 }
 
-/// The rear of a 1.8 m wide car parked 44 m ahead, seen face-on as a far scan shows it: its
-/// ends one or two columns short (1.5 m of it) and only up to 0.8 m high, the beams above
-/// missing the rear window (world frame, every 0.1 m).
-fn far_rear_strip() -> Vec<Point> {
-    let mut out = Vec::new();
-    for row in 0..7 {
-        let z = 0.2 + 0.1 * f64::from(row);
-        for i in 0..=15 {
-            out.push(Point::new(
-                44.0,
-                (3.2 + 0.1 * f64::from(i)) as f32,
-                z as f32,
-                0.0,
-            ));
-        }
-    }
-    out
-}
-
-/// The same car whole: its rear and near side, 0.2 m to 1.5 m high.
+/// A 4.5 x 1.8 m car parked 44 m ahead: its rear (x = 44 m) and near side (y = 3.2 m).
 fn far_car() -> Vec<Point> {
     car()
         .into_iter()
         .map(|p| Point::new(p.x + 11.0, p.y - 0.9, p.z, 0.0))
+        .collect()
+}
+
+/// Its rear as a far scan shows it: its ends one or two columns short (1.5 m of it) and
+/// only up to 0.8 m high, the beams above missing the rear window.
+fn far_rear_strip() -> Vec<Point> {
+    far_car()
+        .into_iter()
+        .filter(|p| p.x == 44.0 && p.y <= 4.75 && p.z <= 0.85)
         .collect()
 }
 

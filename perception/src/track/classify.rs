@@ -95,7 +95,7 @@ pub struct ClassifyConfig {
     pub static_car_min_length: f64,
     /// A car's upper third (roof, windows) is at least this fraction of its lower third's
     /// extent; less is a hedge, a bicycle stand, a fence with a post. Default 0.33 (the
-    /// windows return little, and 35-50 m away the side of a car showed an upper third of
+    /// windows return little, and 33-37 m away the side of a car showed an upper third of
     /// 0.35-0.4 of its lower; on the simulated drives 0.4 / 0.33 / 0.3 gave a mean MOTA of
     /// 89.08 / 89.41 / 89.42 %, KITTI tracking 0000 the same). Views cut by the field of view
     /// need [`CUT_VIEW_MIN_UPPER_RATIO`].

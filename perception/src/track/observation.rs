@@ -139,6 +139,7 @@ impl Observer {
         let oblique_face = rect.extent.min() < ONE_FACE_DEPTH
             && rect.extent.max() > MIN_OBLIQUE_FACE
             && beyond_end > OBLIQUE_MARGIN.max(second_face_offset(to_sensor.norm()));
+        let range = (centroid - sensor).xy().norm();
         let shape = ShapeFeatures {
             length: rect.extent.max(),
             width: rect.extent.min(),
@@ -149,8 +150,8 @@ impl Observer {
             truncated,
             oblique_face,
             surface_variation: f64::from(surface_variation),
-            points_at_10m: points.len() as f64 * (centroid - sensor).xy().norm_squared() / 100.0,
-            range: (centroid - sensor).xy().norm(),
+            points_at_10m: points.len() as f64 * range * range / 100.0,
+            range,
         };
         let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
         Observation {

@@ -424,7 +424,7 @@ impl Tracker {
         let o = &self.observations[j];
         let t = &mut self.tracks[k];
         let heading = box_heading(t, o, config);
-        let range = (o.centroid - scan.sensor()).xy().norm();
+        let range = o.shape.range;
         let noise = config.motion.measurement_noise(range);
         let may_have_arrived = matches!(
             o.verdict,
@@ -531,7 +531,7 @@ impl Tracker {
             Some(ObjectClass::Cyclist) => m.birth_velocity_sigma_cyclist,
             _ => m.birth_velocity_sigma_pedestrian,
         };
-        let range = (o.centroid - scan.sensor()).xy().norm();
+        let range = o.shape.range;
         let mut votes = ClassVotes::default();
         votes.add(o.verdict, config.classify.vote_memory);
         // An object seen again where its dropped track left it, or where it was going, gets
