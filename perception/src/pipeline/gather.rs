@@ -28,6 +28,21 @@ pub(super) struct Clusters {
     pub(super) ranges: Vec<Range<usize>>,
     /// Each cluster's VFH (`None`: too few points to describe).
     pub(super) signatures: Vec<Option<Signature>>,
+    /// Clusters larger than any object (a facade, a fence): left to the map, but a person
+    /// walking along one is peeled off it by the tracking half.
+    pub(super) oversized: Vec<Range<usize>>,
+}
+
+/// The longest ground-plane side (m, along x or y) of an object's cluster: the longest object
+/// seen diagonally.
+pub(super) fn largest_object_side(config: &Config) -> f32 {
+    config.track.classify.max_object_length as f32 * std::f32::consts::SQRT_2
+}
+
+/// Whether `points` reach farther than `largest` (m) along x or y.
+pub(super) fn larger_than_any_object(points: &[Point], largest: f32) -> bool {
+    let bounds = Bounds::of(points);
+    bounds.max[0] - bounds.min[0] > largest || bounds.max[1] - bounds.min[1] > largest
 }
 
 /// The gathering's settings and reusable buffers.
@@ -50,10 +65,9 @@ pub(super) struct Gatherer {
 impl Gatherer {
     /// A gatherer with the settings of `config`.
     pub(super) fn new(config: &Config) -> Self {
-        let classify = &config.track.classify;
         Self {
-            largest: classify.max_object_length as f32 * std::f32::consts::SQRT_2,
-            person: PersonShape::of(classify),
+            largest: largest_object_side(config),
+            person: PersonShape::of(&config.track.classify),
             split_merged: config.track.split_merged_clusters,
             vfh: config.vfh.clone(),
             person_splitter: PersonSplitter::default(),
@@ -104,11 +118,10 @@ impl Gatherer {
             }
         }
         out.ranges.clear();
+        out.oversized.clear();
         for r in &self.group_ranges {
-            let bounds = Bounds::of(&out.points[r.clone()]);
-            let too_large = bounds.max[0] - bounds.min[0] > self.largest
-                || bounds.max[1] - bounds.min[1] > self.largest;
-            if too_large {
+            if larger_than_any_object(&out.points[r.clone()], self.largest) {
+                out.oversized.push(r.clone());
                 continue;
             }
             if !self.split_merged {

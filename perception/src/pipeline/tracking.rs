@@ -4,15 +4,15 @@
 
 use std::ops::Range;
 
-use super::gather::{Signature, describe};
+use super::gather::{Signature, describe, larger_than_any_object, largest_object_side};
 use super::{FrameOutput, Laps, Segmented, TrackingFrame};
-use crate::TrackState;
 use crate::config::Config;
 use crate::occupancy::{OccupancyMap, OccupancyScan};
 use crate::superframe::{ObjectDetail, SuperFrameHeader, Trigger};
 use crate::track::arrivals::{ArrivalPeeler, Scene};
 use crate::track::{ClusterInput, PredictedBox, RecentViews, ScanContext, Splitter, Tracker, View};
 use crate::vfh::VfhEstimator;
+use crate::{Point, TrackState};
 
 /// The clusters the tracker takes: the gathered ones, split among the tracks that claim them.
 #[derive(Debug, Default)]
@@ -23,6 +23,8 @@ struct Parts {
     signatures: Vec<Option<Signature>>,
     /// The confirmed tracks' predicted boxes.
     boxes: Vec<PredictedBox>,
+    /// Those of them of moving people.
+    people: Vec<PredictedBox>,
     /// Scratch: the parts of one cluster.
     split: Vec<Range<usize>>,
 }
@@ -202,7 +204,8 @@ impl Tracking {
 
     /// Splits each gathered cluster of `scan` that several confirmed tracks' predicted boxes
     /// claim among them, or that newcomers are peeled off, describing the new parts; the
-    /// others keep their VFH.
+    /// others keep their VFH. Moving people and newcomers are peeled off the clusters larger
+    /// than any object too (a walker along a facade), whose rest stays with the map.
     fn split_among_tracks(&mut self, scan: &mut Segmented) {
         let p = &mut self.parts;
         p.boxes.clear();
@@ -220,6 +223,8 @@ impl Tracking {
             sensor: [viewpoint[0], viewpoint[1]],
             boxes: &p.boxes,
         };
+        let estimator = &mut self.estimator;
+        let mut describe_part = |points: &[Point]| describe(estimator, points, viewpoint);
         let clusters = &mut scan.clusters;
         for (r, signature) in clusters.ranges.iter().zip(&mut clusters.signatures) {
             p.split.clear();
@@ -236,13 +241,70 @@ impl Tracking {
                 p.signatures.push(signature.take());
                 continue;
             }
-            for part in &p.split {
-                let part = r.start + part.start..r.start + part.end;
-                let points = &clusters.points[part.clone()];
-                p.signatures
-                    .push(describe(&mut self.estimator, points, viewpoint));
-                p.ranges.push(part);
-            }
+            let out = (&mut p.ranges, &mut p.signatures);
+            push_parts(
+                &p.split,
+                &clusters.points,
+                r.start,
+                None,
+                out,
+                &mut describe_part,
+            );
         }
+        if !self.config.track.split_merged_clusters {
+            return;
+        }
+        // Only a moving person's box claims a part of what is larger than any object: a
+        // parked car's box would take the facade behind it.
+        p.people.clear();
+        p.people
+            .extend(p.boxes.iter().filter(|b| b.moving_person).copied());
+        let largest = largest_object_side(&self.config);
+        for k in 0..clusters.oversized.len() {
+            let r = clusters.oversized[k].clone();
+            let points = &mut clusters.points[r.clone()];
+            p.split.clear();
+            self.splitter.split(points, &p.people, &mut p.split);
+            if let (1, Some(then)) = (p.split.len(), then) {
+                p.split.clear();
+                self.peeler.split(points, then, &scene, &mut p.split);
+            }
+            if p.split.len() <= 1 {
+                continue;
+            }
+            let out = (&mut p.ranges, &mut p.signatures);
+            let largest = Some(largest);
+            push_parts(
+                &p.split,
+                &clusters.points,
+                r.start,
+                largest,
+                out,
+                &mut describe_part,
+            );
+        }
+    }
+}
+
+/// Appends the parts `split` (relative to `start` in `points`) to the tracker's parts `out`
+/// (ranges, signatures), each described anew, but those reaching farther than `largest` (m)
+/// along x or y.
+fn push_parts(
+    split: &[Range<usize>],
+    points: &[Point],
+    start: usize,
+    largest: Option<f32>,
+    out: (&mut Vec<Range<usize>>, &mut Vec<Option<Signature>>),
+    describe_part: &mut impl FnMut(&[Point]) -> Option<Signature>,
+) {
+    let (ranges, signatures) = out;
+    for part in split {
+        let part = start + part.start..start + part.end;
+        let points = &points[part.clone()];
+        if largest.is_some_and(|largest| larger_than_any_object(points, largest)) {
+            continue;
+        }
+        signatures.push(describe_part(points));
+        ranges.push(part);
     }
 }
