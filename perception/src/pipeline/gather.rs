@@ -1,7 +1,8 @@
 //! DBSCAN's clusters made into what the tracker takes, before any track is consulted: stacked
-//! fragments of one object joined, clusters larger than any object left to the map, people a
-//! gap away peeled apart, and each cluster described by its VFH. (Clusters holding several
-//! confirmed tracks are split among them later, by the tracking half.)
+//! fragments of one object joined, clusters larger than any object set aside for the map,
+//! people a gap away peeled apart, and each cluster described by its VFH. (Clusters holding
+//! several confirmed tracks are split among them later, by the tracking half, which also
+//! peels moving people and newcomers off the clusters set aside.)
 
 use std::ops::Range;
 
