@@ -74,7 +74,9 @@ pub struct ClassifyConfig {
     pub person_max_width: f64,
     /// Highest top (m) of a person. Default 2.1.
     pub person_max_height: f64,
-    /// Highest lowest point (m) of a person: feet are on the ground. Default 0.6.
+    /// Highest lowest point (m) of a person: feet are on the ground. Default 0.6. A view
+    /// whose lowest point is higher (but not floating) is a person's upper body only when
+    /// something nearer hides its legs, and only if it moves: a walker behind parked cars.
     pub person_max_bottom: f64,
     /// Shortest longer BEV side (m) of a person: thinner is a post. Default 0.15.
     pub person_min_length: f64,
@@ -236,6 +238,10 @@ pub struct ShapeFeatures {
     pub points_at_10m: f64,
     /// BEV distance (m) from the sensor to the view's centre.
     pub range: f64,
+    /// Whether something nearer to the sensor hides the view's lower part: the legs of a
+    /// person walking behind a parked car. Only looked at for views whose lowest point is
+    /// higher than a person's feet (see [`ClassifyConfig::person_max_bottom`]).
+    pub feet_hidden: bool,
 }
 
 /// Why a view is static structure.
@@ -291,6 +297,10 @@ fn car_min_upper_ratio(f: &ShapeFeatures, c: &ClassifyConfig) -> f64 {
     }
 }
 
+/// Least height (m) a view with hidden feet must span to be a person's upper body: from the
+/// hips up a person stands some 0.8 m.
+const HIDDEN_FEET_MIN_SPAN: f64 = 0.6;
+
 /// The verdict on one view.
 pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     use ShapeVerdict::{Movable, Object, Structure};
@@ -325,7 +335,8 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         && f.width <= c.person_max_width
         && f.length >= c.person_min_length
         && f.top <= c.person_max_height
-        && f.bottom <= c.person_max_bottom;
+        && (f.bottom <= c.person_max_bottom
+            || f.feet_hidden && f.top - f.bottom >= HIDDEN_FEET_MIN_SPAN);
     if person_shaped {
         let class = if f.length <= c.pedestrian_max_length {
             ObjectClass::Pedestrian
@@ -334,8 +345,10 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         } else {
             return ShapeVerdict::Unknown;
         };
-        // A top cut by the field of view may belong to a trunk or a post.
-        let sure = !f.truncated
+        // A top cut by the field of view may belong to a trunk or a post; a person whose
+        // legs are hidden is sure only once seen walking.
+        let sure = f.bottom <= c.person_max_bottom
+            && !f.truncated
             && !top_heavy
             && f.length >= c.static_person_min_width
             && f.upper_width >= c.static_person_min_width
@@ -477,6 +490,7 @@ mod tests {
             surface_variation: 0.0,
             points_at_10m: 300.0,
             range: 10.0,
+            feet_hidden: false,
         }
     }
 
@@ -548,6 +562,31 @@ mod tests {
             classify_shape(&clump, &c),
             ShapeVerdict::Movable(pedestrian)
         );
+    }
+
+    #[test]
+    fn an_upper_body_is_a_person_if_its_legs_are_hidden_and_it_moves() {
+        let c = ClassifyConfig::default();
+        // From the hips up: 0.85 to 1.7 m above the ground.
+        let upper_body = ShapeFeatures {
+            bottom: 0.85,
+            ..features(0.5, 0.3, 1.7, 0.45, 0.4)
+        };
+        assert_eq!(classify_shape(&upper_body, &c), ShapeVerdict::Unknown);
+        let behind_a_car = ShapeFeatures {
+            feet_hidden: true,
+            ..upper_body
+        };
+        assert_eq!(
+            classify_shape(&behind_a_car, &c),
+            ShapeVerdict::Movable(ObjectClass::Pedestrian)
+        );
+        // Half a metre of something over a hedge is too little to tell.
+        let sliver = ShapeFeatures {
+            top: 1.4,
+            ..behind_a_car
+        };
+        assert_eq!(classify_shape(&sliver, &c), ShapeVerdict::Unknown);
     }
 
     #[test]

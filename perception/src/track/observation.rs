@@ -1,11 +1,12 @@
 //! What the tracker measures of one cluster: its visible outline in bird's-eye view, its
 //! height profile above the ground and its shape verdict.
 
-use nalgebra::{Isometry3, Point3, Vector2, Vector3};
+use nalgebra::{Point3, Vector2, Vector3};
 
 use super::box_fit::{Rect, fit_rectangle};
 use super::classify::{ClassifyConfig, ShapeFeatures, ShapeVerdict, classify_shape};
-use super::ground::Ground;
+use super::tracker::ScanContext;
+use super::visibility::Visibility;
 use crate::Point;
 
 /// An outline thinner than this (m) is one face.
@@ -81,17 +82,15 @@ pub struct Observer {
 
 impl Observer {
     /// Measures the cluster made of `points` (world frame), of mean surface variation
-    /// `surface_variation`, seen by the sensor at `pose`, whose scan was cut at `range_limit`
-    /// metres.
+    /// `surface_variation`, in `scan`.
     pub fn observe(
         &mut self,
         points: &[Point],
         surface_variation: f32,
-        pose: &Isometry3<f64>,
-        range_limit: f64,
-        ground: &Ground,
+        scan: &ScanContext<'_>,
         classify: &ClassifyConfig,
     ) -> Observation {
+        let (pose, ground) = (&scan.pose, scan.ground);
         self.bev.clear();
         self.heights.clear();
         let mut sum = Vector3::zeros();
@@ -106,13 +105,17 @@ impl Observer {
         }
         let centroid = sum / points.len().max(1) as f64;
         let rect = fit_rectangle(&self.bev);
-        let (bottom, top, highest) = self
-            .heights
-            .iter()
-            .enumerate()
-            .fold((f64::MAX, f64::MIN, 0), |(lo, hi, at), (i, &h)| {
-                (lo.min(h), hi.max(h), if h > hi { i } else { at })
-            });
+        let (bottom, top, lowest, highest) = self.heights.iter().enumerate().fold(
+            (f64::MAX, f64::MIN, 0, 0),
+            |(lo, hi, low_at, high_at), (i, &h)| {
+                (
+                    lo.min(h),
+                    hi.max(h),
+                    if h < lo { i } else { low_at },
+                    if h > hi { i } else { high_at },
+                )
+            },
+        );
         let (bottom, top) = if points.is_empty() {
             (0.0, 0.0)
         } else {
@@ -140,6 +143,11 @@ impl Observer {
             && rect.extent.max() > MIN_OBLIQUE_FACE
             && beyond_end > OBLIQUE_MARGIN.max(second_face_offset(to_sensor.norm()));
         let range = (centroid - sensor).xy().norm();
+        let feet_hidden = bottom > classify.person_max_bottom
+            && bottom <= classify.max_bottom_gap
+            && points
+                .get(lowest)
+                .is_some_and(|p| below_is_hidden(p, bottom, scan));
         let shape = ShapeFeatures {
             length: rect.extent.max(),
             width: rect.extent.min(),
@@ -152,8 +160,9 @@ impl Observer {
             surface_variation: f64::from(surface_variation),
             points_at_10m: points.len() as f64 * range * range / 100.0,
             range,
+            feet_hidden,
         };
-        let clipped = farthest.sqrt() >= range_limit - CLIP_MARGIN;
+        let clipped = farthest.sqrt() >= scan.range_limit - CLIP_MARGIN;
         Observation {
             centroid,
             rect,
@@ -186,22 +195,39 @@ impl Observer {
     }
 }
 
+/// Whether the scan `scan` shows something nearer than the ground-plane position of `lowest`,
+/// a view's lowest point `bottom` metres above the ground, at half that height: what hides
+/// the lower part of the view. `false` without the scan's range image (no pose).
+fn below_is_hidden(lowest: &Point, bottom: f64, scan: &ScanContext<'_>) -> bool {
+    let Some(view) = scan.views.and_then(|v| v.at(scan.timestamp)) else {
+        return false;
+    };
+    let mut probe = Vector3::new(lowest.x, lowest.y, lowest.z).map(f64::from);
+    probe.z -= bottom / 2.0;
+    let seen_from_sensor = view.pose.inverse_transform_point(&Point3::from(probe));
+    view.image.visibility_across(&seen_from_sensor.coords, 0.0) == Visibility::Hidden
+}
+
 #[cfg(test)]
 mod tests {
+    use nalgebra::Isometry3;
+
     use super::*;
     use crate::ObjectClass;
+    use crate::track::ground::Ground;
+    use crate::track::views::{RecentViews, View};
+    use crate::track::visibility::RangeImage;
 
     /// The observation of `points` by a sensor 1.73 m above the origin, scan cut at 50 m.
     fn observe(points: &[Point], ground: &Ground) -> Observation {
-        let sensor = Isometry3::translation(0.0, 0.0, 1.73);
-        Observer::default().observe(
-            points,
-            0.0,
-            &sensor,
-            50.0,
+        let scan = ScanContext {
+            timestamp: 0.0,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
             ground,
-            &ClassifyConfig::default(),
-        )
+            range_limit: 50.0,
+            views: None,
+        };
+        Observer::default().observe(points, 0.0, &scan, &ClassifyConfig::default())
     }
 
     /// A solid box of points (a grid over its four vertical faces).
@@ -237,6 +263,90 @@ mod tests {
             z += step;
         }
         out
+    }
+
+    /// Height of the sensor above the flat ground of [`scan_over`].
+    const SENSOR_HEIGHT: f64 = 1.73;
+
+    /// The returns (sensor frame) of a scan 0.1° by 0.2° fine, 5° to either side of the x
+    /// axis, over flat ground and the vertical faces `(x, z_low, z_high)` 1 m wide across it.
+    fn scan_over(faces: &[(f64, f64, f64)]) -> Vec<Point> {
+        let mut out = Vec::new();
+        for a in -50..=50 {
+            for e in -100..=0 {
+                let (azimuth, elevation) = (f64::from(a) * 0.1, f64::from(e) * 0.2);
+                let (azimuth, elevation) = (azimuth.to_radians(), elevation.to_radians());
+                let ray = Vector3::new(
+                    elevation.cos() * azimuth.cos(),
+                    elevation.cos() * azimuth.sin(),
+                    elevation.sin(),
+                );
+                let face = faces
+                    .iter()
+                    .map(|&(x, low, high)| (ray * (x / ray.x), low, high))
+                    .filter(|(p, low, high)| {
+                        let z = p.z + SENSOR_HEIGHT;
+                        p.y.abs() <= 0.5 && (*low..=*high).contains(&z)
+                    })
+                    .map(|(p, _, _)| p)
+                    .min_by(|p, q| p.x.total_cmp(&q.x));
+                let ground = (ray.z < 0.0).then(|| ray * (-SENSOR_HEIGHT / ray.z));
+                let hit = match (face, ground) {
+                    (Some(f), Some(g)) if g.x < f.x => Some(g),
+                    (Some(f), _) => Some(f),
+                    (None, g) => g,
+                };
+                if let Some(p) = hit.filter(|p| p.norm() < 60.0) {
+                    out.push(Point::new(p.x as f32, p.y as f32, p.z as f32, 0.0));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn legs_behind_something_nearer_are_hidden_under_a_floating_thing_seen_through() {
+        let ground = Ground::horizontal(0.0);
+        // A person's upper body 10 m away, 0.85-1.7 m up, with or without a car's side
+        // (1.2 m tall) 6 m away in front of the legs.
+        let upper_body = (10.0, 0.85, 1.7);
+        for (faces, hidden) in [
+            (vec![(6.0, 0.0, 1.2), upper_body], true),
+            (vec![upper_body], false),
+        ] {
+            let returns = scan_over(&faces);
+            let sensor = Isometry3::translation(0.0, 0.0, SENSOR_HEIGHT);
+            let cluster: Vec<Point> = returns
+                .iter()
+                .filter(|p| f64::from(p.x) > 9.9 && f64::from(p.z) + SENSOR_HEIGHT > 0.3)
+                .map(|p| Point::new(p.x, p.y, p.z + SENSOR_HEIGHT as f32, 0.0))
+                .collect();
+            assert!(cluster.len() > 20, "{} returns", cluster.len());
+            let mut image = RangeImage::default();
+            image.build(&returns);
+            let mut views = RecentViews::new(1.0);
+            views.push(View {
+                timestamp: 0.0,
+                pose: sensor,
+                image,
+            });
+            let scan = ScanContext {
+                timestamp: 0.0,
+                pose: sensor,
+                ground: &ground,
+                range_limit: 50.0,
+                views: Some(&views),
+            };
+            let o = Observer::default().observe(&cluster, 0.0, &scan, &ClassifyConfig::default());
+            assert!((o.shape.bottom - 0.85).abs() < 0.1, "{}", o.shape.bottom);
+            assert_eq!(o.shape.feet_hidden, hidden, "{faces:?}");
+            let expected = if hidden {
+                ShapeVerdict::Movable(ObjectClass::Pedestrian)
+            } else {
+                ShapeVerdict::Unknown
+            };
+            assert_eq!(o.verdict, expected);
+        }
     }
 
     #[test]

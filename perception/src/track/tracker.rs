@@ -317,14 +317,7 @@ impl Tracker {
         clusters
             .par_iter()
             .map_init(Observer::default, |observer, c| {
-                observer.observe(
-                    c.points,
-                    c.surface_variation,
-                    &scan.pose,
-                    scan.range_limit,
-                    scan.ground,
-                    classify,
-                )
+                observer.observe(c.points, c.surface_variation, scan, classify)
             })
             .collect_into_vec(&mut self.observations);
         self.score_pairs(scan, clusters);
