@@ -415,6 +415,7 @@ impl Tracker {
     fn update(&mut self, k: usize, j: usize, scan: &ScanContext<'_>, cluster: &ClusterInput<'_>) {
         let config = &self.config;
         let o = &self.observations[j];
+        let beside_moving = self.beside_moving_track(Some(k), &o.rect.center);
         let t = &mut self.tracks[k];
         let heading = box_heading(t, o, config);
         let range = o.shape.range;
@@ -469,6 +470,7 @@ impl Tracker {
                 cluster.points,
                 &o.centroid,
                 may_have_arrived,
+                beside_moving,
                 scan,
                 config,
             );
@@ -495,6 +497,15 @@ impl Tracker {
                 && inside_box(t, &c, FRAGMENT_MARGIN)
                 && !(person_view && t.identity().is_none_or(sure_person))
         })
+    }
+
+    /// Whether `center` lies within [`BESIDE_MOVING_MARGIN`] of the box of a moving track
+    /// other than track `k`.
+    fn beside_moving_track(&self, k: Option<usize>, center: &Vector2<f64>) -> bool {
+        self.tracks
+            .iter()
+            .enumerate()
+            .any(|(i, t)| Some(i) != k && t.moving && inside_box(t, center, BESIDE_MOVING_MARGIN))
     }
 
     /// Starts a track on cluster `j`.
@@ -537,6 +548,7 @@ impl Tracker {
                 id
             }
         };
+        let beside_moving = self.beside_moving_track(None, &o.rect.center);
         self.tracks.push(Track {
             id,
             motion: MotionModel::new(center, heading, &m.measurement_noise(range), velocity_sigma),
@@ -560,7 +572,19 @@ impl Tracker {
             last_seen: (center.xy(), scan.timestamp),
         });
         if let Some(t) = self.tracks.last_mut() {
-            judge_motion(t, cluster.points, &o.centroid, false, scan, config);
+            let shaped_like_an_object = matches!(
+                o.verdict,
+                ShapeVerdict::Object(_) | ShapeVerdict::Movable(_)
+            );
+            judge_motion(
+                t,
+                cluster.points,
+                &o.centroid,
+                shaped_like_an_object,
+                beside_moving,
+                scan,
+                config,
+            );
             t.settle_identity();
             trace_view("birth", t, o);
         }
@@ -825,6 +849,12 @@ const FAST_STEP: f64 = 3.0;
 const FAST_PROBE_MIN_AGE: f64 = 0.05;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
+/// Tracks matched at most this many times are young: their arrival is also judged against
+/// the scan from before their birth.
+const YOUNG_HITS: u32 = 3;
+/// ...unless their view lies within this (m) of a moving track's box: a fragment of a moving
+/// object arrived as much as the object did, and is no other object.
+const BESIDE_MOVING_MARGIN: f64 = 2.0;
 
 /// Judges whether track `t`, just matched to `points` (centred at `centroid`), moves: where
 /// it was a moment ago is free space now (it left), or, when `may_have_arrived`, where it is
@@ -836,6 +866,7 @@ fn judge_motion(
     points: &[Point],
     centroid: &Vector3<f64>,
     may_have_arrived: bool,
+    beside_moving: bool,
     scan: &ScanContext<'_>,
     config: &TrackConfig,
 ) {
@@ -888,6 +919,27 @@ fn judge_motion(
         t.probes.clear();
         t.probes.extend(probe_points(points, scan));
         t.probe_time = scan.timestamp;
+    }
+    // A young track's probes are too fresh to tell anything yet; where it stands now may
+    // have been free space in the scan that long before its birth (a walker who came out
+    // from behind a parked car, a truck that drove into view).
+    let before_birth = (t.hits <= YOUNG_HITS && may_have_arrived && !beside_moving)
+        .then(|| views.before(t.probe_time, c.motion_probe_min_age))
+        .flatten();
+    if let Some(then) = before_birth {
+        let (through, hit) = count_views(then, probe_points(points, scan), |image, p| {
+            image.visibility_across(p, ARRIVAL_HALF_WIDTH)
+        });
+        if through + hit >= MIN_DECIDED_PROBES
+            && through as f64 >= c.moving_free_fraction * (through + hit) as f64
+        {
+            tracing::trace!(
+                "track {} moves (arrived before its birth): seen through {through}, hit {hit}",
+                t.id
+            );
+            t.moving = true;
+            t.still_since = (t.motion.position().xy(), scan.timestamp);
+        }
     }
 }
 
