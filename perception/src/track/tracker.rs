@@ -16,7 +16,7 @@ use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
-use super::observation::{Observation, Observer, SCAN_AZIMUTH_STEP};
+use super::observation::{Observation, Observer};
 use super::views::{RecentViews, View};
 use super::visibility::{RangeImage, Visibility};
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
@@ -622,9 +622,7 @@ fn is_car(verdict: ShapeVerdict) -> bool {
 /// view's top only bounds the height from below (the beams that reach a distant car's roof
 /// return only now and then), so the car's top is the highest seen: a view without the roof
 /// is still the car, not a low object, and a view under the car height of a thing that was
-/// seen taller (a bush, a hedge) is not a sure car. Its length too bounds the car's from below,
-/// by up to a column's spacing at either end: a car's 1.8 m rear seen 45 m away measures
-/// 1.5 m, short of `static_car_min_length`. (Views cut by the range limit are
+/// seen taller (a bush, a hedge) is not a sure car. (Views cut by the range limit are
 /// [`ShapeVerdict::Unknown`] and stay so.)
 fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> ShapeVerdict {
     let lower_bound = matches!(
@@ -636,7 +634,6 @@ fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> 
     }
     let shape = ShapeFeatures {
         top: car_top,
-        length: o.shape.length + 2.0 * SCAN_AZIMUTH_STEP * o.shape.range,
         ..o.shape
     };
     let lifted = classify_shape(&shape, &config.classify);
