@@ -2,10 +2,11 @@
 //! above a person's feet, and what hides the legs is nearer along the same rays. Once seen
 //! walking, such a view is a person's.
 
-use nalgebra::{Isometry3, Point3};
-use trackd_perception::config::Config;
-use trackd_perception::{Ego, Frame, ObjectClass, Pipeline, Vehicle};
-use trackd_sim::{Scenario, SimConfig, Simulation};
+mod drive_support;
+
+use drive_support::{reports, run_drive};
+use trackd_perception::ObjectClass;
+use trackd_sim::{Scenario, SimConfig};
 
 /// Pedestrian 45 of the seed-6 `paper` drive walks along the parked cars, behind them, 14-20 m
 /// from the sensor from scan 48 on: before hidden legs counted, they went unreported from
@@ -19,36 +20,15 @@ const FRAMES: usize = 100;
 
 #[test]
 fn a_person_walking_behind_parked_cars_is_reported() {
-    let sim = Simulation::new(&SimConfig::new(Scenario::Paper, FRAMES, SEED)).expect("sim");
-    let vehicle = Vehicle {
-        id: "car-1".into(),
-        origin: None,
-        imu_to_velo: Isometry3::identity(),
-    };
-    let mut pipeline = Pipeline::new(Config::default(), vehicle);
+    let drive = SimConfig::new(Scenario::Paper, FRAMES, SEED);
     let mut reported = 0;
-    for index in 0..=LAST {
-        let scan = sim.frame(0, index);
-        let walker = scan.objects.iter().find(|o| o.id == WALKER).map(|o| {
-            let c = scan.velodyne_pose * Point3::from(o.center);
-            (c.x, c.y)
-        });
-        let output = pipeline
-            .process(Frame {
-                timestamp: scan.timestamp,
-                points: scan.points,
-                ego: Ego::Pose(scan.velodyne_pose),
-            })
-            .expect("scan processed");
-        if index < FIRST {
-            continue;
+    run_drive(&drive, LAST + 1, WALKER, |index, walker, output| {
+        if index >= FIRST {
+            let walker = walker.expect("the walker is in the ground truth");
+            reported += usize::from(reports(output, ObjectClass::Pedestrian, walker, 1.0));
         }
-        let (x, y) = walker.expect("the walker is in the ground truth");
-        let found = output.tracks.iter().any(|t| {
-            t.class == ObjectClass::Pedestrian && (t.center.x - x).hypot(t.center.y - y) < 1.0
-        });
-        reported += usize::from(found);
-    }
+        true
+    });
     let scans = LAST - FIRST + 1;
     assert!(
         reported * 10 >= scans * 8,

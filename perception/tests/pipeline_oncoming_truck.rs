@@ -3,10 +3,11 @@
 //! against the scan from before its track's birth, it is reported from its second view on,
 //! not from its fourth.
 
-use nalgebra::{Isometry3, Point3};
-use trackd_perception::config::Config;
-use trackd_perception::{Ego, Frame, ObjectClass, Pipeline, Vehicle};
-use trackd_sim::{Scenario, SimConfig, Simulation};
+mod drive_support;
+
+use drive_support::{reports, run_drive};
+use trackd_perception::ObjectClass;
+use trackd_sim::{Scenario, SimConfig};
 
 /// Truck 110 of the seed-6 `highway` drive comes the other way at 24 m/s beside the
 /// vehicle's lanes; it enters the 50 m range in scan 4.
@@ -21,48 +22,22 @@ const CHECKED: usize = 5;
 
 #[test]
 fn an_oncoming_truck_is_reported_from_its_second_view() {
-    let sim = Simulation::new(&SimConfig::new(Scenario::Highway, FRAMES, SEED)).expect("sim");
-    let vehicle = Vehicle {
-        id: "car-1".into(),
-        origin: None,
-        imu_to_velo: Isometry3::identity(),
-    };
-    let mut pipeline = Pipeline::new(Config::default(), vehicle);
+    let drive = SimConfig::new(Scenario::Highway, FRAMES, SEED);
     let mut first_view = None;
     let mut reported = Vec::new();
-    for index in 0..FRAMES {
-        let scan = sim.frame(0, index);
-        let truck = scan.objects.iter().find(|o| o.id == TRUCK).map(|o| {
-            let c = scan.velodyne_pose * Point3::from(o.center);
-            let seen = scan.velodyne_pose.inverse() * c;
-            (c.x, c.y, seen.coords.xy().norm())
-        });
-        let output = pipeline
-            .process(Frame {
-                timestamp: scan.timestamp,
-                points: scan.points,
-                ego: Ego::Pose(scan.velodyne_pose),
-            })
-            .expect("scan processed");
-        let Some((x, y, range)) = truck else {
-            continue;
+    run_drive(&drive, FRAMES, TRUCK, |index, truck, output| {
+        let Some(truck) = truck else {
+            return true;
         };
-        if first_view.is_none() && range < MAX_RANGE {
-            first_view = Some(index);
-            continue;
-        }
         let Some(first) = first_view else {
-            continue;
+            if truck.range < MAX_RANGE {
+                first_view = Some(index);
+            }
+            return true;
         };
-        let found = output
-            .tracks
-            .iter()
-            .any(|t| t.class == ObjectClass::Car && (t.center.x - x).hypot(t.center.y - y) < 2.0);
-        reported.push((index, found));
-        if index >= first + CHECKED {
-            break;
-        }
-    }
+        reported.push((index, reports(output, ObjectClass::Car, truck, 2.0)));
+        index < first + CHECKED
+    });
     assert_eq!(
         reported.len(),
         CHECKED,

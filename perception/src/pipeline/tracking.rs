@@ -225,16 +225,24 @@ impl Tracking {
         };
         let estimator = &mut self.estimator;
         let mut describe_part = |points: &[Point]| describe(estimator, points, viewpoint);
+        let (splitter, peeler) = (&mut self.splitter, &mut self.peeler);
+        // A cluster is shared out among the boxes that claim it, or else its newcomers are
+        // peeled off it.
+        let mut split_or_peel =
+            |points: &mut [Point], boxes: &[PredictedBox], split: &mut Vec<Range<usize>>| {
+                split.clear();
+                splitter.split(points, boxes, split);
+                if let (1, Some(then)) = (split.len(), then) {
+                    split.clear();
+                    peeler.split(points, then, &scene, split);
+                }
+            };
+        let split_merged = self.config.track.split_merged_clusters;
         let clusters = &mut scan.clusters;
         for (r, signature) in clusters.ranges.iter().zip(&mut clusters.signatures) {
             p.split.clear();
-            if self.config.track.split_merged_clusters {
-                let points = &mut clusters.points[r.clone()];
-                self.splitter.split(points, &p.boxes, &mut p.split);
-                if let (1, Some(then)) = (p.split.len(), then) {
-                    p.split.clear();
-                    self.peeler.split(points, then, &scene, &mut p.split);
-                }
+            if split_merged {
+                split_or_peel(&mut clusters.points[r.clone()], &p.boxes, &mut p.split);
             }
             if p.split.len() <= 1 {
                 p.ranges.push(r.clone());
@@ -251,7 +259,7 @@ impl Tracking {
                 &mut describe_part,
             );
         }
-        if !self.config.track.split_merged_clusters {
+        if !split_merged {
             return;
         }
         // Only a moving person's box claims a part of what is larger than any object: a
@@ -259,21 +267,13 @@ impl Tracking {
         p.people.clear();
         p.people
             .extend(p.boxes.iter().filter(|b| b.moving_person).copied());
-        let largest = largest_object_side(&self.config);
-        for k in 0..clusters.oversized.len() {
-            let r = clusters.oversized[k].clone();
-            let points = &mut clusters.points[r.clone()];
-            p.split.clear();
-            self.splitter.split(points, &p.people, &mut p.split);
-            if let (1, Some(then)) = (p.split.len(), then) {
-                p.split.clear();
-                self.peeler.split(points, then, &scene, &mut p.split);
-            }
+        let largest = Some(largest_object_side(&self.config));
+        for r in &clusters.oversized {
+            split_or_peel(&mut clusters.points[r.clone()], &p.people, &mut p.split);
             if p.split.len() <= 1 {
                 continue;
             }
             let out = (&mut p.ranges, &mut p.signatures);
-            let largest = Some(largest);
             push_parts(
                 &p.split,
                 &clusters.points,

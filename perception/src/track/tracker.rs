@@ -415,7 +415,10 @@ impl Tracker {
     fn update(&mut self, k: usize, j: usize, scan: &ScanContext<'_>, cluster: &ClusterInput<'_>) {
         let config = &self.config;
         let o = &self.observations[j];
-        let beside_moving = self.beside_moving_track(Some(k), &o.rect.center);
+        // Only a young track's arrival before its birth is judged (this match is counted
+        // below): the others need not look for a moving track beside them.
+        let young = self.tracks[k].hits < YOUNG_HITS;
+        let beside_moving = young && self.beside_moving_track(Some(k), &o.rect.center);
         let t = &mut self.tracks[k];
         let heading = box_heading(t, o, config);
         let range = o.shape.range;
@@ -893,21 +896,9 @@ fn judge_motion(
             image.visibility_across(p, LEFT_HALF_WIDTH)
         });
         let then = views.at(t.probe_time).filter(|_| may_have_arrived);
-        let arrived = then.map_or((0, 0), |then| {
-            count_views(then, probe_points(points, scan), |image, p| {
-                image.visibility_across(p, ARRIVAL_HALF_WIDTH)
-            })
-        });
-        for (way, (through, hit)) in [("left", left), ("arrived", arrived)] {
-            if through + hit >= MIN_DECIDED_PROBES
-                && through as f64 >= c.moving_free_fraction * (through + hit) as f64
-            {
-                tracing::trace!(
-                    "track {} moves ({way}): seen through {through}, hit {hit}",
-                    t.id
-                );
-                t.moving = true;
-                t.still_since = (t.motion.position().xy(), scan.timestamp);
+        let arrived = then.map_or((0, 0), |then| arrived_counts(then, points, scan));
+        for (way, counts) in [("left", left), ("arrived", arrived)] {
+            if start_moving_if_free(t, counts, way, scan, c) {
                 return;
             }
         }
@@ -924,20 +915,40 @@ fn judge_motion(
         .then(|| views.before(t.probe_time, c.motion_probe_min_age))
         .flatten();
     if let Some(then) = before_birth {
-        let (through, hit) = count_views(then, probe_points(points, scan), |image, p| {
-            image.visibility_across(p, ARRIVAL_HALF_WIDTH)
-        });
-        if through + hit >= MIN_DECIDED_PROBES
-            && through as f64 >= c.moving_free_fraction * (through + hit) as f64
-        {
-            tracing::trace!(
-                "track {} moves (arrived before its birth): seen through {through}, hit {hit}",
-                t.id
-            );
-            t.moving = true;
-            t.still_since = (t.motion.position().xy(), scan.timestamp);
-        }
+        let counts = arrived_counts(then, points, scan);
+        start_moving_if_free(t, counts, "arrived before its birth", scan, c);
     }
+}
+
+/// How many of the probe points of a cluster's `points` the earlier view `then` saw through
+/// and how many it hit: whether where the cluster stands now was free space then.
+fn arrived_counts(then: &View, points: &[Point], scan: &ScanContext<'_>) -> (usize, usize) {
+    count_views(then, probe_points(points, scan), |image, p| {
+        image.visibility_across(p, ARRIVAL_HALF_WIDTH)
+    })
+}
+
+/// Judges track `t` moving when at least [`MIN_DECIDED_PROBES`] of its probes were decided
+/// (`counts`: seen through, hit) and `moving_free_fraction` of them were seen through;
+/// `way` says how, for the log. Returns whether it did.
+fn start_moving_if_free(
+    t: &mut Track,
+    (through, hit): (usize, usize),
+    way: &str,
+    scan: &ScanContext<'_>,
+    c: &ClassifyConfig,
+) -> bool {
+    let free = through + hit >= MIN_DECIDED_PROBES
+        && through as f64 >= c.moving_free_fraction * (through + hit) as f64;
+    if free {
+        tracing::trace!(
+            "track {} moves ({way}): seen through {through}, hit {hit}",
+            t.id
+        );
+        t.moving = true;
+        t.still_since = (t.motion.position().xy(), scan.timestamp);
+    }
+    free
 }
 
 /// Whether the cluster centred at `centroid` lies farther than [`FAST_STEP`] from the mean
