@@ -1,6 +1,7 @@
 //! DBSCAN's clusters made into what the tracker takes, before any track is consulted: stacked
 //! fragments of one object joined, clusters larger than any object set aside for the map,
-//! people a gap away peeled apart, and each cluster described by its VFH. (Clusters holding
+//! people a gap away peeled apart, people standing by a facade (or anything longer than a car)
+//! peeled off it, and each cluster described by its VFH. (Clusters holding
 //! several confirmed tracks are split among them later, by the tracking half, which also
 //! peels moving people and newcomers off the clusters set aside.)
 
@@ -14,6 +15,7 @@ use crate::config::Config;
 use crate::track::Ground;
 use crate::track::fragments::{Bounds, stacked_groups};
 use crate::track::person_split::{PersonShape, PersonSplitter};
+use crate::track::standing_peel::StandingPeeler;
 use crate::vfh::{BINS, Vfh, VfhConfig, VfhEstimator};
 
 /// What VFH tells of one cluster: its histogram, the histogram's CDF and the cluster's surface
@@ -51,11 +53,16 @@ pub(super) fn larger_than_any_object(points: &[Point], largest: f32) -> bool {
 pub(super) struct Gatherer {
     /// Clusters longer than this on an axis (m) are structure.
     largest: f32,
+    /// Clusters longer than this on an axis (m) are no one car: people standing by them are
+    /// peeled off.
+    longest_car: f32,
     person: PersonShape,
+    standing: PersonShape,
     /// Whether merged objects are split (people apart here, tracks apart later).
     split_merged: bool,
     vfh: VfhConfig,
     person_splitter: PersonSplitter,
+    standing_peeler: StandingPeeler,
     bounds: Vec<Bounds>,
     groups: Vec<usize>,
     group_ranges: Vec<Range<usize>>,
@@ -68,10 +75,13 @@ impl Gatherer {
     pub(super) fn new(config: &Config) -> Self {
         Self {
             largest: largest_object_side(config),
+            longest_car: config.track.classify.car_max_length as f32,
             person: PersonShape::of(&config.track.classify),
+            standing: PersonShape::standing(&config.track.classify),
             split_merged: config.track.split_merged_clusters,
             vfh: config.vfh.clone(),
             person_splitter: PersonSplitter::default(),
+            standing_peeler: StandingPeeler::default(),
             bounds: Vec::new(),
             groups: Vec::new(),
             group_ranges: Vec::new(),
@@ -121,27 +131,45 @@ impl Gatherer {
         out.ranges.clear();
         out.oversized.clear();
         for r in &self.group_ranges {
-            if larger_than_any_object(&out.points[r.clone()], self.largest) {
-                out.oversized.push(r.clone());
-                continue;
-            }
+            let points = &mut out.points[r.clone()];
+            let oversized = larger_than_any_object(points, self.largest);
             if !self.split_merged {
-                out.ranges.push(r.clone());
+                if oversized {
+                    out.oversized.push(r.clone());
+                } else {
+                    out.ranges.push(r.clone());
+                }
                 continue;
             }
+            let shifted = |p: &Range<usize>| r.start + p.start..r.start + p.end;
             self.people.clear();
-            self.person_splitter.split(
-                &mut out.points[r.clone()],
-                sensor,
-                ground,
-                &self.person,
-                &mut self.people,
-            );
-            out.ranges.extend(
-                self.people
-                    .iter()
-                    .map(|p| r.start + p.start..r.start + p.end),
-            );
+            let split = !oversized
+                && self.person_splitter.split(
+                    points,
+                    sensor,
+                    ground,
+                    &self.person,
+                    &mut self.people,
+                ) > 1;
+            if split || !larger_than_any_object(points, self.longest_car) {
+                out.ranges.extend(self.people.iter().map(shifted));
+                continue;
+            }
+            // Longer than any car and not all people: a facade, a hedge, a row of parked
+            // cars, perhaps with people standing by it.
+            self.people.clear();
+            let rest =
+                self.standing_peeler
+                    .peel(points, sensor, ground, &self.standing, &mut self.people);
+            out.ranges.extend(self.people.iter().map(shifted));
+            if rest.is_empty() {
+                continue;
+            }
+            if oversized {
+                out.oversized.push(shifted(&rest));
+            } else {
+                out.ranges.push(shifted(&rest));
+            }
         }
     }
 

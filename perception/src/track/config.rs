@@ -160,8 +160,9 @@ pub struct TrackConfig {
     pub report_coasting_scans: u32,
     /// Split clusters DBSCAN merged: people a gap away peeled off, a cluster that holds
     /// the predicted boxes of several confirmed tracks shared out among them (two riders side
-    /// by side), and person-sized groups of newcomers peeled off large clusters (a pedestrian
-    /// walking along a wall: see [`super::arrivals`]). Default true.
+    /// by side), person-sized groups of newcomers peeled off large clusters (a pedestrian
+    /// walking along a wall: see [`super::arrivals`]), and people standing by anything longer
+    /// than a car peeled off it (see [`super::standing_peel`]). Default true.
     pub split_merged_clusters: bool,
     /// Weight of the new view in the smoothed size when it is smaller than the current
     /// estimate (partial views shrink slowly). Larger views count in full. Default 0.1.

@@ -19,6 +19,7 @@ mod parts;
 pub mod person_split;
 mod raster;
 pub mod split;
+pub mod standing_peel;
 pub mod tracker;
 pub mod views;
 pub mod visibility;

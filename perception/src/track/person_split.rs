@@ -78,6 +78,14 @@ impl PersonShape {
             pole_max_footprint: c.pole_max_footprint as f32,
         }
     }
+
+    /// A standing pedestrian's shape: no longer than a pedestrian.
+    pub fn standing(c: &ClassifyConfig) -> Self {
+        Self {
+            max_length: c.pedestrian_max_length as f32,
+            ..Self::of(c)
+        }
+    }
 }
 
 /// The footprint and height range of a set of points.

@@ -41,6 +41,17 @@ impl Raster {
         r * self.columns + c
     }
 
+    /// The cell holding `p`, if it lies within the bounds.
+    pub(crate) fn cell_inside(&self, p: &Point) -> Option<usize> {
+        let (c, r) = (
+            (p.x - self.min[0]) / self.cell,
+            (p.y - self.min[1]) / self.cell,
+        );
+        let inside =
+            (0.0..self.columns as f32).contains(&c) && (0.0..self.rows as f32).contains(&r);
+        inside.then(|| r as usize * self.columns + c as usize)
+    }
+
     /// Gives the [`MARKED`] cells of `labels` (one per cell) the numbers 0, 1, … of their
     /// connected groups (8-neighbours), numbered in the order of their first cell; returns
     /// how many groups there are. `stack` is scratch.
