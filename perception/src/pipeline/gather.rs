@@ -44,8 +44,13 @@ pub(super) fn largest_object_side(config: &Config) -> f32 {
 
 /// Whether `points` reach farther than `largest` (m) along x or y.
 pub(super) fn larger_than_any_object(points: &[Point], largest: f32) -> bool {
+    longest_side(points) > largest
+}
+
+/// How far (m) `points` reach along x or y, whichever is farther.
+fn longest_side(points: &[Point]) -> f32 {
     let bounds = Bounds::of(points);
-    bounds.max[0] - bounds.min[0] > largest || bounds.max[1] - bounds.min[1] > largest
+    (bounds.max[0] - bounds.min[0]).max(bounds.max[1] - bounds.min[1])
 }
 
 /// The gathering's settings and reusable buffers.
@@ -132,7 +137,8 @@ impl Gatherer {
         out.oversized.clear();
         for r in &self.group_ranges {
             let points = &mut out.points[r.clone()];
-            let oversized = larger_than_any_object(points, self.largest);
+            let side = longest_side(points);
+            let oversized = side > self.largest;
             if !self.split_merged {
                 if oversized {
                     out.oversized.push(r.clone());
@@ -151,7 +157,7 @@ impl Gatherer {
                     &self.person,
                     &mut self.people,
                 ) > 1;
-            if split || !larger_than_any_object(points, self.longest_car) {
+            if split || side <= self.longest_car {
                 out.ranges.extend(self.people.iter().map(shifted));
                 continue;
             }

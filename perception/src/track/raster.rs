@@ -56,8 +56,20 @@ impl Raster {
     /// connected groups (8-neighbours), numbered in the order of their first cell; returns
     /// how many groups there are. `stack` is scratch.
     pub(crate) fn label_groups(&self, labels: &mut [u32], stack: &mut Vec<u32>) -> u32 {
+        self.label_groups_from(0..self.len(), labels, stack)
+    }
+
+    /// [`label_groups`](Self::label_groups) visiting only `cells` (which must hold every
+    /// marked cell), numbering the groups in the order of their first cell there: a sparse
+    /// raster is labelled without a pass over all its cells.
+    pub(crate) fn label_groups_from(
+        &self,
+        cells: impl IntoIterator<Item = usize>,
+        labels: &mut [u32],
+        stack: &mut Vec<u32>,
+    ) -> u32 {
         let mut count = 0u32;
-        for start in 0..self.len() {
+        for start in cells {
             if labels[start] != MARKED {
                 continue;
             }

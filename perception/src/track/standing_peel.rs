@@ -17,7 +17,7 @@ use nalgebra::Vector3;
 use super::ground::Ground;
 use super::parts::PartWriter;
 use super::person_split::PersonShape;
-use super::raster::Raster;
+use super::raster::{MARKED, Raster, UNLABELLED};
 use crate::Point;
 
 /// Points at least this high above the ground (m) are body: kerbs, low walls' footings and
@@ -65,16 +65,21 @@ impl Footprint {
         self.top = self.top.max(height);
     }
 
+    /// The centre of the footprint's bounds, relative to `sensor`.
+    fn center_from(&self, sensor: [f64; 2]) -> [f32; 2] {
+        [
+            (self.min[0] + self.max[0]) / 2.0 - sensor[0] as f32,
+            (self.min[1] + self.max[1]) / 2.0 - sensor[1] as f32,
+        ]
+    }
+
     /// Whether this is a person standing within `MAX_RANGE` of `sensor`. The footprint's
     /// sides are taken along x and y: a person's is small either way.
     fn is_person(&self, shape: &PersonShape, sensor: [f64; 2]) -> bool {
         let sides = [self.max[0] - self.min[0], self.max[1] - self.min[1]];
         let (long, short) = (sides[0].max(sides[1]), sides[0].min(sides[1]));
-        let center = [
-            f64::from(self.min[0] + self.max[0]) / 2.0,
-            f64::from(self.min[1] + self.max[1]) / 2.0,
-        ];
-        let range = (center[0] - sensor[0]).hypot(center[1] - sensor[1]) as f32;
+        let center = self.center_from(sensor);
+        let range = center[0].hypot(center[1]);
         self.points >= shape.min_points
             && long <= shape.max_length
             && (MIN_DEPTH..=shape.max_width).contains(&short)
@@ -90,7 +95,7 @@ pub struct StandingPeeler {
     /// Per point: its height above the ground and its cell.
     heights: Vec<f32>,
     cells: Vec<u32>,
-    /// Per raster cell: its footprint, or [`MARKED`] while it waits for one; [`NO_GROUP`]
+    /// Per raster cell: its footprint, or [`MARKED`] while it waits for one; [`UNLABELLED`]
     /// between calls.
     owner: Vec<u32>,
     /// The cells holding body points.
@@ -122,7 +127,7 @@ impl StandingPeeler {
             return all;
         };
         if self.owner.len() < raster.len() {
-            self.owner.resize(raster.len(), NO_GROUP);
+            self.owner.resize(raster.len(), UNLABELLED);
         }
         self.heights.clear();
         self.cells.clear();
@@ -143,18 +148,21 @@ impl StandingPeeler {
                 self.marked.push(cell as u32);
             }
         }
-        let groups = self.label_marked(&raster);
+        // Only the marked cells are visited: a facade 60 m long fills a fraction of its
+        // raster.
+        let marked = self.marked.iter().map(|&cell| cell as usize);
+        let groups = raster.label_groups_from(marked, &mut self.owner, &mut self.stack) as usize;
         self.group_of_point.clear();
         for &cell in &self.cells {
             let group = match cell {
-                OUTSIDE => NO_GROUP,
+                OUTSIDE => UNLABELLED,
                 cell => self.owner[cell as usize],
             };
             self.group_of_point.push(group);
         }
         // Leave every cell unlabelled for the next cluster.
         for &cell in &self.marked {
-            self.owner[cell as usize] = NO_GROUP;
+            self.owner[cell as usize] = UNLABELLED;
         }
         // Each group with every point of its cells, the low ones included (the feet).
         self.footprints.clear();
@@ -163,7 +171,7 @@ impl StandingPeeler {
             .iter()
             .zip(self.group_of_point.iter().zip(&self.heights))
         {
-            if group != NO_GROUP {
+            if group != UNLABELLED {
                 self.footprints[group as usize].add(p, h);
             }
         }
@@ -184,7 +192,7 @@ impl StandingPeeler {
         self.slot_of_point.clear();
         for &group in &self.group_of_point {
             let slot = match group {
-                NO_GROUP => persons,
+                UNLABELLED => persons,
                 group => self.slot[group as usize].min(persons),
             };
             self.slot_of_point.push(slot);
@@ -199,49 +207,13 @@ impl StandingPeeler {
         }
     }
 
-    /// Numbers the connected groups (8-neighbours) of the marked cells in `owner`; returns
-    /// how many there are. Only the marked cells are visited: a facade 60 m long fills a
-    /// fraction of its raster.
-    fn label_marked(&mut self, raster: &Raster) -> usize {
-        let mut count = 0;
-        for k in 0..self.marked.len() {
-            let start = self.marked[k];
-            if self.owner[start as usize] != MARKED {
-                continue;
-            }
-            self.owner[start as usize] = count;
-            self.stack.clear();
-            self.stack.push(start);
-            while let Some(cell) = self.stack.pop() {
-                let (row, column) = (
-                    cell as usize / raster.columns,
-                    cell as usize % raster.columns,
-                );
-                for r in row.saturating_sub(1)..=(row + 1).min(raster.rows - 1) {
-                    for c in column.saturating_sub(1)..=(column + 1).min(raster.columns - 1) {
-                        let neighbour = r * raster.columns + c;
-                        if self.owner[neighbour] == MARKED {
-                            self.owner[neighbour] = count;
-                            self.stack.push(neighbour as u32);
-                        }
-                    }
-                }
-            }
-            count += 1;
-        }
-        count as usize
-    }
-
     /// Whether nothing else of the cluster `points` lies in front of footprint `k`, seen from
     /// `sensor`: a person stands before the facade and hides it, while a piece of the facade
     /// set back behind the rest of it (a doorway, a recess, a gap in a fence) is seen past it.
     fn stands_in_front(&self, k: u32, points: &[Point], sensor: [f64; 2]) -> bool {
         let (sx, sy) = (sensor[0] as f32, sensor[1] as f32);
         let f = &self.footprints[k as usize];
-        let center = [
-            (f.min[0] + f.max[0]) / 2.0 - sx,
-            (f.min[1] + f.max[1]) / 2.0 - sy,
-        ];
+        let center = f.center_from(sensor);
         let norm = center[0].hypot(center[1]).max(1e-3);
         let d = [center[0] / norm, center[1] / norm];
         // Along the footprint's direction `d`: the distance and the tangent of the bearing.
@@ -276,10 +248,6 @@ impl StandingPeeler {
 
 /// Cell of the points outside the raster.
 const OUTSIDE: u32 = u32::MAX;
-/// Group of the points in no footprint.
-const NO_GROUP: u32 = u32::MAX;
-/// A cell holding body points, not yet given its footprint.
-const MARKED: u32 = u32::MAX - 1;
 
 /// The raster over the points of `points` within [`MAX_RANGE`] of `sensor` (plus a margin),
 /// if there are any.
