@@ -251,6 +251,12 @@ pub struct ShapeFeatures {
     /// looked at for views whose lowest point is higher than a person's feet (see
     /// [`ClassifyConfig::person_max_bottom`]) and not floating.
     pub feet_hidden: bool,
+    /// Whether something nearer to the sensor hides what lies below an end of the view's
+    /// upper third, half way up its lower third: a van parked behind cars is narrow at the
+    /// bottom because they hide it, a tree's crown because its trunk is thin. Only looked at
+    /// for smooth views within 35 m whose upper third spans more than 2.5 m (see
+    /// `track/observation.rs`).
+    pub lower_hidden: bool,
 }
 
 /// Why a view is static structure.
@@ -330,9 +336,11 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
         return Structure(Pole);
     }
     // Legs under a torso are top-heavy too: a top-heavy view no wider and no taller than a
-    // person may be one walking (a small tree if it never moves).
-    let top_heavy =
-        f.top > c.tree_min_height && f.upper_width > c.tree_spread_ratio * f.lower_width.max(0.2);
+    // person may be one walking (a small tree if it never moves). A view narrow at the bottom
+    // because something nearer hides its lower part is not top-heavy.
+    let top_heavy = f.top > c.tree_min_height
+        && f.upper_width > c.tree_spread_ratio * f.lower_width.max(0.2)
+        && !f.lower_hidden;
     let person_sized = f.upper_width <= c.person_max_upper_width && f.top <= c.person_max_height;
     if top_heavy && !person_sized {
         return Structure(Tree);
@@ -500,6 +508,7 @@ mod tests {
             points_at_10m: 300.0,
             range: 10.0,
             feet_hidden: false,
+            lower_hidden: false,
         }
     }
 
@@ -514,6 +523,7 @@ mod tests {
         assert_eq!(classify_shape(&upper_part, &c), ShapeVerdict::Unknown);
         let behind_a_car = ShapeFeatures {
             feet_hidden: true,
+            lower_hidden: false,
             ..upper_part
         };
         assert_eq!(
@@ -622,6 +632,7 @@ mod tests {
         assert_eq!(classify_shape(&upper_body, &c), ShapeVerdict::Unknown);
         let behind_a_car = ShapeFeatures {
             feet_hidden: true,
+            lower_hidden: false,
             ..upper_body
         };
         assert_eq!(

@@ -31,6 +31,20 @@ const SECOND_FACE_DEPTH: f64 = 1.6;
 /// at the limit for objects).
 const CLIP_MARGIN: f64 = 0.4;
 
+/// A view's lower part counts as hidden ([`ShapeFeatures::lower_hidden`]) only within this
+/// range (m): farther, the lower beams of most directions hit something nearer, and a hidden
+/// lower part says little (without this limit a facade 48 m away on KITTI tracking 0000,
+/// outside the labelled view, was reported as a car for 15 scans)...
+const LOWER_HIDDEN_MAX_RANGE: f64 = 35.0;
+/// ...when the view is smooth, a vehicle's panels and not a crown's leaves (views of cars
+/// measure 0.02-0.04)...
+const LOWER_HIDDEN_MAX_SURFACE_VARIATION: f64 = 0.03;
+/// ...and when its upper third spans more (m) than a sign or a small crown. Without these
+/// three tests, clutter whose lower part something nearer hid became cars: the simulated
+/// drives of seeds 1-3 scored a mean MOTA of 89.20 % instead of 90.39 % (19.7 more false
+/// positives a drive); with the smoothness test alone, 89.64 %.
+const LOWER_HIDDEN_MIN_UPPER_WIDTH: f64 = 2.5;
+
 /// One cluster as the tracker sees it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observation {
@@ -143,11 +157,21 @@ impl Observer {
             && rect.extent.max() > MIN_OBLIQUE_FACE
             && beyond_end > OBLIQUE_MARGIN.max(second_face_offset(to_sensor.norm()));
         let range = (centroid - sensor).xy().norm();
+        // Under the lowest point, half way down to the ground.
         let feet_hidden = bottom > classify.person_max_bottom
             && bottom <= classify.max_bottom_gap
             && points
                 .get(lowest)
-                .is_some_and(|p| below_is_hidden(p, bottom, scan));
+                .is_some_and(|p| hidden_at(p, -bottom / 2.0, scan));
+        // Under either end of the upper third, half way up the lower third.
+        let lower_hidden = upper_width > lower_width
+            && upper_width > LOWER_HIDDEN_MIN_UPPER_WIDTH
+            && range <= LOWER_HIDDEN_MAX_RANGE
+            && f64::from(surface_variation) <= LOWER_HIDDEN_MAX_SURFACE_VARIATION
+            && self
+                .upper_ends(&rect, top - third)
+                .into_iter()
+                .any(|i| hidden_at(&points[i], bottom + third / 2.0 - self.heights[i], scan));
         let shape = ShapeFeatures {
             length: rect.extent.max(),
             width: rect.extent.min(),
@@ -161,6 +185,7 @@ impl Observer {
             points_at_10m: points.len() as f64 * range * range / 100.0,
             range,
             feet_hidden,
+            lower_hidden,
         };
         let clipped = farthest.sqrt() >= scan.range_limit - CLIP_MARGIN;
         Observation {
@@ -176,6 +201,21 @@ impl Observer {
             points: points.len(),
             clipped,
         }
+    }
+
+    /// The points at either end of the upper part (heights from `from` up) along the
+    /// rectangle's longer side: indices into the cluster's points.
+    fn upper_ends(&self, rect: &Rect, from: f64) -> Vec<usize> {
+        let axis = if rect.extent.x >= rect.extent.y {
+            rect.axis()
+        } else {
+            Vector2::new(-rect.axis().y, rect.axis().x)
+        };
+        let along = |i: usize| axis.dot(&self.bev[i]);
+        let upper = (0..self.bev.len()).filter(|&i| self.heights[i] >= from);
+        let first = upper.clone().min_by(|&a, &b| along(a).total_cmp(&along(b)));
+        let last = upper.max_by(|&a, &b| along(a).total_cmp(&along(b)));
+        first.into_iter().chain(last).collect()
     }
 
     /// Largest extent along the rectangle's axes of the points whose height passes `keep`.
@@ -195,15 +235,15 @@ impl Observer {
     }
 }
 
-/// Whether the scan `scan` shows something nearer than the ground-plane position of `lowest`,
-/// a view's lowest point `bottom` metres above the ground, at half that height: what hides
-/// the lower part of the view. `false` without the scan's range image (no pose).
-fn below_is_hidden(lowest: &Point, bottom: f64, scan: &ScanContext<'_>) -> bool {
+/// Whether the scan `scan` shows something nearer than the point `dz` metres above `p`
+/// (below, if negative): what hides that part of a view. `false` without the scan's range
+/// image (no pose).
+fn hidden_at(p: &Point, dz: f64, scan: &ScanContext<'_>) -> bool {
     let Some(view) = scan.views.and_then(|v| v.at(scan.timestamp)) else {
         return false;
     };
-    let mut probe = Vector3::new(lowest.x, lowest.y, lowest.z).map(f64::from);
-    probe.z -= bottom / 2.0;
+    let mut probe = Vector3::new(p.x, p.y, p.z).map(f64::from);
+    probe.z += dz;
     let seen_from_sensor = view.pose.inverse_transform_point(&Point3::from(probe));
     view.image.visibility_across(&seen_from_sensor.coords, 0.0) == Visibility::Hidden
 }
@@ -214,6 +254,7 @@ mod tests {
 
     use super::*;
     use crate::ObjectClass;
+    use crate::track::classify::StructureKind;
     use crate::track::ground::Ground;
     use crate::track::views::{RecentViews, View};
     use crate::track::visibility::RangeImage;
@@ -268,11 +309,29 @@ mod tests {
     /// Height of the sensor above the flat ground of [`scan_over`].
     const SENSOR_HEIGHT: f64 = 1.73;
 
-    /// The returns (sensor frame) of a scan 0.1° by 0.2° fine, 5° to either side of the x
-    /// axis, over flat ground and the vertical faces `(x, z_low, z_high)` 1 m wide across it.
-    fn scan_over(faces: &[(f64, f64, f64)]) -> Vec<Point> {
+    /// A vertical face across the x axis: at `x`, spanning `y` across and `z` up from the
+    /// ground.
+    #[derive(Clone, Debug)]
+    struct Face {
+        x: f64,
+        y: (f64, f64),
+        z: (f64, f64),
+    }
+
+    /// A face 1 m wide across the x axis.
+    fn narrow_face(x: f64, z_low: f64, z_high: f64) -> Face {
+        Face {
+            x,
+            y: (-0.5, 0.5),
+            z: (z_low, z_high),
+        }
+    }
+
+    /// The returns (sensor frame) of a scan 0.1° by 0.2° fine, 10° to either side of the x
+    /// axis, over flat ground and `faces`.
+    fn scan_over(faces: &[Face]) -> Vec<Point> {
         let mut out = Vec::new();
-        for a in -50..=50 {
+        for a in -100..=100 {
             for e in -100..=0 {
                 let (azimuth, elevation) = (f64::from(a) * 0.1, f64::from(e) * 0.2);
                 let (azimuth, elevation) = (azimuth.to_radians(), elevation.to_radians());
@@ -283,12 +342,12 @@ mod tests {
                 );
                 let face = faces
                     .iter()
-                    .map(|&(x, low, high)| (ray * (x / ray.x), low, high))
-                    .filter(|(p, low, high)| {
+                    .map(|f| (ray * (f.x / ray.x), f))
+                    .filter(|(p, f)| {
                         let z = p.z + SENSOR_HEIGHT;
-                        p.y.abs() <= 0.5 && (*low..=*high).contains(&z)
+                        (f.y.0..=f.y.1).contains(&p.y) && (f.z.0..=f.z.1).contains(&z)
                     })
-                    .map(|(p, _, _)| p)
+                    .map(|(p, _)| p)
                     .min_by(|p, q| p.x.total_cmp(&q.x));
                 let ground = (ray.z < 0.0).then(|| ray * (-SENSOR_HEIGHT / ray.z));
                 let hit = match (face, ground) {
@@ -304,40 +363,47 @@ mod tests {
         out
     }
 
+    /// The observation of the returns of `faces` beyond `from` metres (and 0.15 m above the
+    /// ground), by a sensor 1.73 m above the origin that took the scan, with mean surface
+    /// variation 0.
+    fn observe_scan(faces: &[Face], from: f64) -> Observation {
+        let ground = Ground::horizontal(0.0);
+        let returns = scan_over(faces);
+        let sensor = Isometry3::translation(0.0, 0.0, SENSOR_HEIGHT);
+        let cluster: Vec<Point> = returns
+            .iter()
+            .filter(|p| f64::from(p.x) > from && f64::from(p.z) + SENSOR_HEIGHT > 0.15)
+            .map(|p| Point::new(p.x, p.y, p.z + SENSOR_HEIGHT as f32, 0.0))
+            .collect();
+        assert!(cluster.len() > 20, "{} returns", cluster.len());
+        let mut image = RangeImage::default();
+        image.build(&returns);
+        let mut views = RecentViews::new(1.0);
+        views.push(View {
+            timestamp: 0.0,
+            pose: sensor,
+            image,
+        });
+        let scan = ScanContext {
+            timestamp: 0.0,
+            pose: sensor,
+            ground: &ground,
+            range_limit: 50.0,
+            views: Some(&views),
+        };
+        Observer::default().observe(&cluster, 0.0, &scan, &ClassifyConfig::default())
+    }
+
     #[test]
     fn legs_behind_something_nearer_are_hidden_under_a_floating_thing_seen_through() {
-        let ground = Ground::horizontal(0.0);
         // A person's upper body 10 m away, 0.85-1.7 m up, with or without a car's side
         // (1.2 m tall) 6 m away in front of the legs.
-        let upper_body = (10.0, 0.85, 1.7);
+        let upper_body = narrow_face(10.0, 0.85, 1.7);
         for (faces, hidden) in [
-            (vec![(6.0, 0.0, 1.2), upper_body], true),
+            (vec![narrow_face(6.0, 0.0, 1.2), upper_body.clone()], true),
             (vec![upper_body], false),
         ] {
-            let returns = scan_over(&faces);
-            let sensor = Isometry3::translation(0.0, 0.0, SENSOR_HEIGHT);
-            let cluster: Vec<Point> = returns
-                .iter()
-                .filter(|p| f64::from(p.x) > 9.9 && f64::from(p.z) + SENSOR_HEIGHT > 0.3)
-                .map(|p| Point::new(p.x, p.y, p.z + SENSOR_HEIGHT as f32, 0.0))
-                .collect();
-            assert!(cluster.len() > 20, "{} returns", cluster.len());
-            let mut image = RangeImage::default();
-            image.build(&returns);
-            let mut views = RecentViews::new(1.0);
-            views.push(View {
-                timestamp: 0.0,
-                pose: sensor,
-                image,
-            });
-            let scan = ScanContext {
-                timestamp: 0.0,
-                pose: sensor,
-                ground: &ground,
-                range_limit: 50.0,
-                views: Some(&views),
-            };
-            let o = Observer::default().observe(&cluster, 0.0, &scan, &ClassifyConfig::default());
+            let o = observe_scan(&faces, 9.9);
             assert!((o.shape.bottom - 0.85).abs() < 0.1, "{}", o.shape.bottom);
             assert_eq!(o.shape.feet_hidden, hidden, "{faces:?}");
             let expected = if hidden {
@@ -347,6 +413,45 @@ mod tests {
             };
             assert_eq!(o.verdict, expected);
         }
+    }
+
+    #[test]
+    fn a_van_half_hidden_by_parked_cars_is_no_tree() {
+        // 16 m away, a crown 3 m wide (1.2-2.2 m up) on a trunk 0.6 m wide: a tree.
+        let crown = Face {
+            x: 16.0,
+            y: (-1.5, 1.5),
+            z: (1.2, 2.2),
+        };
+        let trunk = Face {
+            x: 16.0,
+            y: (-0.3, 0.3),
+            z: (0.0, 1.2),
+        };
+        let tree = observe_scan(&[crown, trunk], 15.9);
+        assert!(!tree.shape.lower_hidden);
+        assert_eq!(tree.verdict, ShapeVerdict::Structure(StructureKind::Tree));
+        // A van's side (0.2-2.2 m up) as wide, behind two parked cars 10 m away (1.4 m tall)
+        // with a gap between them: as narrow at the bottom, because the cars hide it.
+        let van = Face {
+            x: 16.0,
+            y: (-1.5, 1.5),
+            z: (0.2, 2.2),
+        };
+        let car = |y| Face {
+            x: 10.0,
+            y,
+            z: (0.0, 1.4),
+        };
+        let faces = [car((-3.0, -0.25)), car((0.25, 3.0)), van];
+        let van = observe_scan(&faces, 15.9);
+        assert!(
+            van.shape.upper_width > 2.5 * van.shape.lower_width,
+            "{:?}",
+            van.shape
+        );
+        assert!(van.shape.lower_hidden);
+        assert_eq!(van.verdict, ShapeVerdict::Object(ObjectClass::Car));
     }
 
     #[test]
