@@ -324,7 +324,8 @@ fn car_min_upper_ratio(f: &ShapeFeatures, c: &ClassifyConfig) -> f64 {
 
 /// The least fraction of its lower third's extent the upper third of a van taller than
 /// [`ClassifyConfig::car_max_height`] spans: its box slopes only at the windscreen (the
-/// simulated vans' views measure 0.7-1.0; a bush and a tree 2.3 m tall on KITTI, 0.44 and 0.6).
+/// car-like views of that height on two simulated drives all measure 0.7 or more; a bush and a
+/// tree 2.3 m tall on KITTI, 0.44 and 0.6).
 const WHOLE_VAN_MIN_UPPER_RATIO: f64 = 0.7;
 
 /// Least height (m) a view with hidden feet must span to be a person's upper body: from the
