@@ -39,6 +39,16 @@ impl Rect {
     pub fn axis(&self) -> Vector2<f64> {
         Vector2::new(self.yaw.cos(), self.yaw.sin())
     }
+
+    /// The direction of the longer side as a unit vector (the first axis on a tie).
+    pub fn long_axis(&self) -> Vector2<f64> {
+        let axis = self.axis();
+        if self.extent.x >= self.extent.y {
+            axis
+        } else {
+            Vector2::new(-axis.y, axis.x)
+        }
+    }
 }
 
 /// Orientation and visible extents of the outline of `points` (x, y). An empty input gives a
