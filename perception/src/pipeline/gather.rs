@@ -1,18 +1,20 @@
 //! DBSCAN's clusters made into what the tracker takes, before any track is consulted: stacked
 //! fragments of one object joined, clusters larger than any object set aside for the map,
 //! people a gap away peeled apart, people standing by a facade (or anything longer than a car)
-//! peeled off it, and each cluster described by its VFH. (Clusters holding
-//! several confirmed tracks are split among them later, by the tracking half, which also
-//! peels moving people and newcomers off the clusters set aside.)
+//! peeled off it, cars peeled off what they touch, and each cluster described by its VFH.
+//! (Clusters holding several confirmed tracks are split among them later, by the tracking
+//! half, which also peels moving people and newcomers off the clusters set aside.)
 
 use std::ops::Range;
 
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::Point;
 use crate::cluster::Clustering;
 use crate::config::Config;
 use crate::track::Ground;
+use crate::track::car_peel::{CarPeeler, CarShape};
 use crate::track::fragments::{Bounds, stacked_groups};
 use crate::track::person_split::{PersonShape, PersonSplitter};
 use crate::track::standing_peel::StandingPeeler;
@@ -63,16 +65,19 @@ pub(super) struct Gatherer {
     longest_car: f32,
     person: PersonShape,
     standing: PersonShape,
+    car: CarShape,
     /// Whether merged objects are split (people apart here, tracks apart later).
     split_merged: bool,
     vfh: VfhConfig,
     person_splitter: PersonSplitter,
     standing_peeler: StandingPeeler,
+    car_peeler: CarPeeler,
     bounds: Vec<Bounds>,
     groups: Vec<usize>,
     group_ranges: Vec<Range<usize>>,
     sizes: Vec<usize>,
     people: Vec<Range<usize>>,
+    cars: Vec<Range<usize>>,
 }
 
 impl Gatherer {
@@ -83,15 +88,18 @@ impl Gatherer {
             longest_car: config.track.classify.car_max_length as f32,
             person: PersonShape::of(&config.track.classify),
             standing: PersonShape::standing(&config.track.classify),
+            car: CarShape::of(&config.track.classify),
             split_merged: config.track.split_merged_clusters,
             vfh: config.vfh.clone(),
             person_splitter: PersonSplitter::default(),
             standing_peeler: StandingPeeler::default(),
+            car_peeler: CarPeeler::default(),
             bounds: Vec::new(),
             groups: Vec::new(),
             group_ranges: Vec::new(),
             sizes: Vec::new(),
             people: Vec::new(),
+            cars: Vec::new(),
         }
     }
 
@@ -101,10 +109,11 @@ impl Gatherer {
         &mut self,
         clustering: &Clustering,
         obstacles: &[Point],
-        sensor: [f64; 2],
+        sensor: Vector3<f64>,
         ground: &Ground,
         out: &mut Clusters,
     ) {
+        let sensor_xy = [sensor.x, sensor.y];
         self.bounds.clear();
         for members in clustering.clusters() {
             let points = members.iter().map(|&i| &obstacles[i as usize]);
@@ -152,30 +161,55 @@ impl Gatherer {
             let split = !oversized
                 && self.person_splitter.split(
                     points,
-                    sensor,
+                    sensor_xy,
                     ground,
                     &self.person,
                     &mut self.people,
                 ) > 1;
-            if split || side <= self.longest_car {
+            if split {
                 out.ranges.extend(self.people.iter().map(shifted));
+                continue;
+            }
+            if side <= self.longest_car {
+                self.cars.clear();
+                self.car_peeler
+                    .peel(points, sensor, ground, &self.car, &mut self.cars);
+                out.ranges.extend(self.cars.iter().map(shifted));
                 continue;
             }
             // Longer than any car and not all people: a facade, a hedge, a row of parked
             // cars, perhaps with people standing by it.
             self.people.clear();
-            let rest =
-                self.standing_peeler
-                    .peel(points, sensor, ground, &self.standing, &mut self.people);
+            let rest = self.standing_peeler.peel(
+                points,
+                sensor_xy,
+                ground,
+                &self.standing,
+                &mut self.people,
+            );
             out.ranges.extend(self.people.iter().map(shifted));
             if rest.is_empty() {
                 continue;
             }
             if oversized {
                 out.oversized.push(shifted(&rest));
-            } else {
-                out.ranges.push(shifted(&rest));
+                continue;
             }
+            // A row of parked cars, or a car by a hedge.
+            self.cars.clear();
+            self.car_peeler.peel(
+                &mut points[rest.clone()],
+                sensor,
+                ground,
+                &self.car,
+                &mut self.cars,
+            );
+            let rest_start = r.start + rest.start;
+            out.ranges.extend(
+                self.cars
+                    .iter()
+                    .map(|c| rest_start + c.start..rest_start + c.end),
+            );
         }
     }
 

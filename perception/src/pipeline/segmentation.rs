@@ -216,7 +216,7 @@ impl Segmentation {
         self.gatherer.gather(
             &out.clustering,
             &out.obstacles,
-            [sensor.x, sensor.y],
+            sensor,
             &out.ground,
             &mut out.clusters,
         );

@@ -7,6 +7,7 @@ pub mod arrivals;
 pub mod assignment;
 pub mod association;
 pub mod box_fit;
+pub mod car_peel;
 pub mod classify;
 pub mod confidence;
 pub mod config;
