@@ -14,6 +14,7 @@ use nalgebra::{Vector2, Vector3};
 
 use super::box_fit::fit_rectangle;
 use super::classify::ClassifyConfig;
+use super::fragments::Bounds;
 use super::ground::Ground;
 use super::parts::PartWriter;
 use crate::Point;
@@ -131,11 +132,7 @@ impl Measure {
         limits: &Limits,
         xy: &mut Vec<Vector2<f64>>,
     ) -> Option<Self> {
-        let (mut min, mut max) = ([f32::MAX; 2], [f32::MIN; 2]);
-        for p in points {
-            min = [min[0].min(p.x), min[1].min(p.y)];
-            max = [max[0].max(p.x), max[1].max(p.y)];
-        }
+        let Bounds { min, max } = Bounds::of(points);
         let side = [f64::from(max[0] - min[0]), f64::from(max[1] - min[1])];
         let centre = Vector2::new(
             f64::from(min[0] + max[0]) / 2.0,
@@ -205,8 +202,8 @@ impl Default for CarPeeler {
 impl CarPeeler {
     /// Peels the cars off the cluster `points` (world frame; reordered in place), seen from
     /// `sensor` (world frame), above `ground`: appends the ranges of its parts to `parts`
-    /// (relative to `points`) — each car, then the rest — and returns how many (one, the whole
-    /// cluster, when nothing is peeled).
+    /// (relative to `points`) — each car, then the rest; the whole cluster when nothing is
+    /// peeled.
     pub fn peel(
         &mut self,
         points: &mut [Point],
@@ -214,7 +211,7 @@ impl CarPeeler {
         ground: &Ground,
         shape: &CarShape,
         parts: &mut Vec<Range<usize>>,
-    ) -> usize {
+    ) {
         let cars = match self.look(points, sensor, ground, shape) {
             Some(whole) => {
                 let (cars, rest) = self.find_cars(points, sensor, ground, shape);
@@ -231,10 +228,10 @@ impl CarPeeler {
         };
         if cars == 0 {
             parts.push(0..points.len());
-            return 1;
+        } else {
+            self.writer
+                .write(points, &self.owner, cars as usize + 1, parts);
         }
-        self.writer
-            .write(points, &self.owner, cars as usize + 1, parts)
     }
 
     /// The measure of `points` if they are worth a look: near enough, small enough and no car
