@@ -4,9 +4,10 @@
 //! structure, and the car with it. Clustered again with a smaller radius ([`FINE_EPS`]), the
 //! car stands apart: each fine cluster shaped like a car (a car's footprint showing a corner, a
 //! car's height under the field of view's upper edge, standing on the ground) becomes a
-//! cluster of its own, and the rest stays one cluster, as it was. Only clusters that are no car
-//! themselves, no larger than two cars, and near enough for the fine radius to keep a car
-//! whole ([`MAX_RANGE`]) are looked at.
+//! cluster of its own, and the rest stays one cluster, as it was. (Close by, the field of view
+//! cuts a van's top: a row of vans bumper to bumper is split only when every part of it is a
+//! van.) Only clusters that are no car themselves, no larger than two cars, and near enough
+//! for the fine radius to keep a car whole ([`MAX_RANGE`]) are looked at.
 
 use std::ops::Range;
 
@@ -86,11 +87,12 @@ impl CarShape {
             && m.width <= self.max_width
     }
 
-    /// Whether a part measuring `m` is surely a car: car-shaped, showing a corner, whole.
-    fn is_a_car(&self, m: &Measure) -> bool {
+    /// Whether a part measuring `m` is a car: car-shaped, showing a corner, and whole unless
+    /// `cut` allows its top to be cut by the field of view.
+    fn is_a_car(&self, m: &Measure, cut: bool) -> bool {
         self.may_be_a_car(m)
             && m.width >= MIN_CAR_WIDTH
-            && m.elevation_deg <= self.max_elevation_deg
+            && (cut || m.elevation_deg <= self.max_elevation_deg)
     }
 }
 
@@ -213,18 +215,23 @@ impl CarPeeler {
         parts: &mut Vec<Range<usize>>,
     ) {
         let cars = match self.look(points, sensor, ground, shape) {
-            Some(whole) => {
-                let (cars, rest) = self.find_cars(points, sensor, ground, shape);
+            Some(whole) if self.dbscan.run(points, &mut self.clustering).is_ok() => {
+                let (cars, rest) = self.find_cars(points, sensor, ground, shape, false);
                 // A row as narrow as a car is cars only: a low building's wall, a container,
-                // a hedge have car-shaped stretches too.
+                // a hedge have car-shaped stretches too. Close by, the field of view cuts
+                // the top of vans parked bumper to bumper: such a row is all vans when every
+                // part of it is one.
                 let row = whole.width <= shape.max_width;
-                if row && rest >= MIN_CAR_POINTS {
-                    0
-                } else {
+                if !row || rest < MIN_CAR_POINTS {
                     cars
+                } else {
+                    match self.find_cars(points, sensor, ground, shape, true) {
+                        (cars, rest) if cars >= 2 && rest < MIN_CAR_POINTS => cars,
+                        _ => 0,
+                    }
                 }
             }
-            None => 0,
+            _ => 0,
         };
         if cars == 0 {
             parts.push(0..points.len());
@@ -257,19 +264,18 @@ impl CarPeeler {
         })
     }
 
-    /// Clusters `points` again with the fine radius and marks, in `self.owner`, each fine
-    /// cluster that is a car with its number and every other point with the number after the
-    /// last car's. Returns how many cars it found and how many points are left.
+    /// Marks, in `self.owner`, each cluster of `self.clustering` (`points` clustered again
+    /// with the fine radius) that is a car (its top perhaps `cut` by the field of view) with
+    /// its number and every other point with the number after the last car's. Returns how
+    /// many cars it found and how many points are left.
     fn find_cars(
         &mut self,
         points: &[Point],
         sensor: Vector3<f64>,
         ground: &Ground,
         shape: &CarShape,
+        cut: bool,
     ) -> (u32, usize) {
-        if self.dbscan.run(points, &mut self.clustering).is_err() {
-            return (0, points.len());
-        }
         self.owner.clear();
         self.owner.resize(points.len(), u32::MAX);
         let limits = shape.limits();
@@ -282,7 +288,7 @@ impl CarPeeler {
             self.fine
                 .extend(members.iter().map(|&i| points[i as usize]));
             let measure = Measure::of(&self.fine, sensor, ground, &limits, &mut self.xy);
-            if measure.is_some_and(|m| shape.is_a_car(&m)) {
+            if measure.is_some_and(|m| shape.is_a_car(&m, cut)) {
                 for &i in members {
                     self.owner[i as usize] = cars;
                 }
@@ -368,6 +374,20 @@ mod tests {
         let second = solid([25.2, 2.0], [29.6, 3.8], 1.5, 0.2);
         let mut points = [first.clone(), second.clone()].concat();
         assert_eq!(peel(&mut points), vec![first.len(), second.len()]);
+    }
+
+    #[test]
+    fn two_vans_bumper_to_bumper_close_by_are_two_vans_though_cut() {
+        // 8 m away the field of view cuts the vans' tops: each part is a car only because the
+        // whole row is cars.
+        let first = solid([8.0, 2.0], [13.4, 4.0], 2.2, 0.2);
+        let second = solid([14.2, 2.0], [19.6, 4.0], 2.3, 0.2);
+        let mut points = [first.clone(), second.clone()].concat();
+        assert_eq!(peel(&mut points), vec![first.len(), second.len()]);
+        // A van cut so, by a stretch of wall: left whole.
+        let wall = solid([14.2, 3.8], [19.6, 4.0], 2.3, 0.2);
+        let mut points = [first.clone(), wall.clone()].concat();
+        assert_eq!(peel(&mut points), vec![first.len() + wall.len()]);
     }
 
     #[test]
