@@ -3,7 +3,8 @@
 //! sensor hides the place it left, and is judged moving because it now stands where the laser
 //! passed freely before; an identical post that stands still is never reported, not even
 //! near the sensor with the pose a few centimetres off from scan to scan; a walker crossing
-//! the view near the sensor is seen moving, and judged afresh once it has stood still.
+//! the view near the sensor is seen moving, and judged afresh once it has stood still; a post
+//! that came into view looks arrived, and is judged static once the scan still hits it.
 
 mod track_support;
 mod view_support;
@@ -159,4 +160,28 @@ fn a_walker_that_stops_is_judged_afresh_and_a_post_it_now_is() {
     );
     assert_eq!(out[12].len(), 1, "reported while walking and just after");
     assert!(out[55..].iter().all(Vec::is_empty), "{:?}", &out[55..]);
+}
+
+#[test]
+fn a_post_that_came_into_view_is_judged_static_once_the_scan_still_hits_it() {
+    // Nothing there for half a second, then a post: it looks arrived, as a walker stepping out
+    // from behind a parked car does, and is reported; 1.5 s on, the scan still hits where it
+    // stood, so it has not moved (sooner than three seconds of standing still would tell).
+    let out = run_with_pose_error(
+        40,
+        |t| {
+            if t >= 0.5 {
+                vec![Vector2::new(12.0, 2.0)]
+            } else {
+                Vec::new()
+            }
+        },
+        |_| Vector2::zeros(),
+    );
+    assert!(
+        out[6..12].iter().any(|r| r.len() == 1),
+        "reported once arrived: {:?}",
+        &out[6..12]
+    );
+    assert!(out[25..].iter().all(Vec::is_empty), "{:?}", &out[25..]);
 }

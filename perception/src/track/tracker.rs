@@ -847,6 +847,10 @@ const STILL_TIME: f64 = 3.0;
 const FAST_STEP: f64 = 3.0;
 /// ...judges its motion on probes from the scan before (s).
 const FAST_PROBE_MIN_AGE: f64 = 0.05;
+/// A moving track whose probes, `motion_probe_max_age` old, the scan still hits in this
+/// share of those it decides on has not left: it stands still (a static car whose track
+/// alternates with a post beside it, judged moving because it came into view).
+const STAYED_FRACTION: f64 = 0.8;
 /// Decided probes (seen through or hit) needed to judge motion.
 const MIN_DECIDED_PROBES: usize = 6;
 /// Tracks matched at most this many times are young: their arrival is also judged against
@@ -873,6 +877,8 @@ fn judge_motion(
     let Some((views, now)) = scan.views.and_then(|v| Some((v, v.latest()?))) else {
         return;
     };
+    let c = &config.classify;
+    let age = scan.timestamp - t.probe_time;
     if t.moving {
         let here = t.motion.position().xy();
         if (here - t.still_since.0).norm() > STILL_RADIUS {
@@ -881,11 +887,29 @@ fn judge_motion(
             tracing::trace!("track {} has stood still: motion judged afresh", t.id);
             t.moving = false;
             t.probes.clear();
+            return;
+        }
+        if !t.probes.is_empty() && age >= c.motion_probe_max_age {
+            let (through, hit) = count_views(now, t.probes.iter().copied(), |image, p| {
+                image.visibility_across(p, LEFT_HALF_WIDTH)
+            });
+            if hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64 {
+                tracing::trace!(
+                    "track {} has not left: seen through {through}, hit {hit}",
+                    t.id
+                );
+                t.moving = false;
+                t.probes.clear();
+                return;
+            }
+        }
+        if t.probes.is_empty() || age >= c.motion_probe_max_age {
+            t.probes.clear();
+            t.probes.extend(probe_points(points, scan));
+            t.probe_time = scan.timestamp;
         }
         return;
     }
-    let c = &config.classify;
-    let age = scan.timestamp - t.probe_time;
     let min_age = if has_moved_far(&t.probes, centroid) {
         FAST_PROBE_MIN_AGE
     } else {
