@@ -4,7 +4,8 @@
 //! passed freely before; an identical post that stands still is never reported, not even
 //! near the sensor with the pose a few centimetres off from scan to scan; a walker crossing
 //! the view near the sensor is seen moving, and judged afresh once it has stood still; a post
-//! that came into view looks arrived, and is judged static once the scan still hits it.
+//! that came into view looks arrived, and is judged static once the scan still hits it; and a
+//! walker identified only while it moved is not held as a person once it stands still.
 
 mod track_support;
 mod view_support;
@@ -18,14 +19,21 @@ use view_support::{SENSOR_Z, record_view};
 /// The face of a post 0.18 m wide and 1.75 m tall at `center` that looks at the origin,
 /// world frame (ground at z = 0).
 fn post(center: Vector2<f64>) -> Vec<Point> {
+    face(center, 4)
+}
+
+/// The face of a body `columns` × 0.06 m wide and 1.75 m tall at `center` that looks at the
+/// origin, world frame (ground at z = 0).
+fn face(center: Vector2<f64>, columns: u32) -> Vec<Point> {
     let toward = -center.normalize();
     let across = Vector2::new(-toward.y, toward.x);
-    let face = center + toward * 0.09;
+    let half = 0.03 * f64::from(columns - 1);
+    let face = center + toward * half;
     let mut out = Vec::new();
     for row in 0..32 {
         let z = 0.2 + f64::from(row) * 0.05;
-        for i in 0..4 {
-            let p = face + across * (-0.09 + 0.06 * f64::from(i));
+        for i in 0..columns {
+            let p = face + across * (-half + 0.06 * f64::from(i));
             out.push(Point::new(p.x as f32, p.y as f32, z as f32, 0.0));
         }
     }
@@ -70,6 +78,19 @@ fn run_with_pose_error(
     posts: impl Fn(f64) -> Vec<Vector2<f64>>,
     pose_error: impl Fn(u32) -> Vector2<f64>,
 ) -> Vec<Vec<Vector3<f64>>> {
+    run_bodies(
+        scans,
+        |t| posts(t).into_iter().map(post).collect(),
+        pose_error,
+    )
+}
+
+/// [`run_with_pose_error`] with the bodies of scan k at `bodies(t)` (s), world frame.
+fn run_bodies(
+    scans: u32,
+    bodies: impl Fn(f64) -> Vec<Vec<Point>>,
+    pose_error: impl Fn(u32) -> Vector2<f64>,
+) -> Vec<Vec<Vector3<f64>>> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let mut views = RecentViews::new(2.0);
     let ground = Ground::horizontal(0.0);
@@ -80,7 +101,7 @@ fn run_with_pose_error(
         let t = f64::from(k) * 0.1;
         let error = pose_error(k);
         let pose = Isometry3::translation(error.x, error.y, SENSOR_Z);
-        let clouds: Vec<Vec<Point>> = posts(t).into_iter().map(post).collect();
+        let clouds = bodies(t);
         record_view(
             &mut views,
             t,
@@ -184,4 +205,22 @@ fn a_post_that_came_into_view_is_judged_static_once_the_scan_still_hits_it() {
         &out[6..12]
     );
     assert!(out[25..].iter().all(Vec::is_empty), "{:?}", &out[25..]);
+}
+
+#[test]
+fn a_walker_identified_while_moving_is_not_held_once_it_stands_still() {
+    // Shoulder-wide for its first three scans, a post's width after (turned sideways): a
+    // person while it walks, but standing still it is judged afresh, and the identity it had
+    // while moving is no identity a static track holds.
+    let stop = 1.0;
+    let out = run_bodies(
+        60,
+        |t| {
+            let at = Vector2::new(8.0, -1.0 + 1.4 * t.min(stop));
+            vec![face(at, if t < 0.3 { 8 } else { 4 })]
+        },
+        |_| Vector2::zeros(),
+    );
+    assert_eq!(out[12].len(), 1, "reported while walking and just after");
+    assert!(out[55..].iter().all(Vec::is_empty), "{:?}", &out[55..]);
 }

@@ -104,8 +104,10 @@ pub struct Track {
     hits: u32,
     misses: u32,
     votes: ClassVotes,
-    /// The identity the votes last gave, where the track was then and in how many views in all
-    /// they gave it: a static track given it in [`HOLD_MIN_VIEWS`] views keeps it while
+    /// The identity the votes last gave the track as if it stood still (views shaped like
+    /// nothing static), where the track was then and in how many views in all they gave it
+    /// (an identity given only by motion is not held: a trunk judged moving on a pose error
+    /// stays a trunk): a static track given it in [`HOLD_MIN_VIEWS`] views keeps it while
     /// [`ClassVotes::may_hold`] and it stays within [`HOLD_RADIUS`] of that place (the visible
     /// part of a wall slides along it; a parked car stays put).
     held: Option<(ObjectClass, Vector2<f64>, u32)>,
@@ -179,7 +181,7 @@ impl Track {
 
     /// Updates [`Self::held`] after a view.
     fn settle_identity(&mut self) {
-        if let Some(class) = self.votes.identity(self.moving) {
+        if let Some(class) = self.votes.identity(false) {
             let views = match self.held {
                 Some((held, _, views)) if held == class => views + 1,
                 _ => 1,
