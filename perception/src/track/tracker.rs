@@ -14,6 +14,7 @@ use super::classify::{
 };
 use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
+use super::fragments::Bounds;
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
 use super::observation::{Observation, Observer};
@@ -921,6 +922,13 @@ fn judge_motion(
         let left = count_views(now, t.probes.iter().copied(), |image, p| {
             image.visibility_across(p, LEFT_HALF_WIDTH)
         });
+        // A person-sized track whose probes are free now but whose cluster stood where it
+        // stands when they were taken slid from a walker onto a post beside them.
+        let slid = person_sized(points, c)
+            && views
+                .at(t.probe_time)
+                .is_some_and(|then| stood_there(then, points, scan));
+        let left = if slid { (0, 0) } else { left };
         let then = views.at(t.probe_time).filter(|_| may_have_arrived);
         let arrived = then.map_or((0, 0), |then| arrived_counts(then, points, scan));
         for (way, counts) in [("left", left), ("arrived", arrived)] {
@@ -944,6 +952,21 @@ fn judge_motion(
         let counts = arrived_counts(then, points, scan);
         start_moving_if_free(t, counts, "arrived before its birth", scan, c);
     }
+}
+
+/// Whether `points` reach no farther along x or y than a pedestrian's length.
+fn person_sized(points: &[Point], c: &ClassifyConfig) -> bool {
+    let b = Bounds::of(points);
+    (0..2).all(|k| f64::from(b.max[k] - b.min[k]) <= c.pedestrian_max_length)
+}
+
+/// Whether the earlier view `then` hit the probe points of a cluster's `points` where they
+/// are (in [`STAYED_FRACTION`] of those it decides on): the cluster stood there then.
+fn stood_there(then: &View, points: &[Point], scan: &ScanContext<'_>) -> bool {
+    let (through, hit) = count_views(then, probe_points(points, scan), |image, p| {
+        image.visibility_across(p, 0.0)
+    });
+    hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64
 }
 
 /// How many of the probe points of a cluster's `points` the earlier view `then` saw through
