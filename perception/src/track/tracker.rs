@@ -1070,3 +1070,68 @@ fn trace_view(event: &str, t: &Track, o: &Observation) {
         o.verdict
     );
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The face of a post 0.2 m wide, 0.2-1.8 m up, at `x`, `y` (world frame, ground z = 0).
+    fn post(x: f32, y: f32) -> Vec<Point> {
+        let mut out = Vec::new();
+        for row in 0..33 {
+            for i in 0..5 {
+                out.push(Point::new(
+                    x,
+                    y - 0.1 + 0.05 * i as f32,
+                    0.2 + 0.05 * row as f32,
+                    0.0,
+                ));
+            }
+        }
+        out
+    }
+
+    /// A view from a sensor 1.73 m above the world origin of the world-frame `points`.
+    fn view(points: &[Point]) -> View {
+        let pose = Isometry3::translation(0.0, 0.0, 1.73);
+        let in_sensor: Vec<Point> = points
+            .iter()
+            .map(|p| Point::new(p.x, p.y, p.z - 1.73, 0.0))
+            .collect();
+        let mut image = RangeImage::default();
+        image.build(&in_sensor);
+        View {
+            timestamp: 0.0,
+            pose,
+            image,
+        }
+    }
+
+    #[test]
+    fn a_post_stood_where_it_stands_a_walker_who_came_there_did_not() {
+        let ground = Ground::horizontal(0.0);
+        let scan = ScanContext {
+            timestamp: 0.5,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground: &ground,
+            range_limit: 50.0,
+            views: None,
+        };
+        // A wall 30 m away behind everything.
+        let wall: Vec<Point> = (0..400)
+            .flat_map(|i| {
+                (0..30).map(move |k| Point::new(30.0, -10.0 + 0.05 * i as f32, 0.1 * k as f32, 0.0))
+            })
+            .collect();
+        let here = post(10.0, 0.5);
+        // The earlier view saw the post where it stands now...
+        let with_post = view(&[wall.clone(), here.clone()].concat());
+        assert!(stood_there(&with_post, &here, &scan));
+        // ...or saw through that place to the wall: a walker who has arrived.
+        let without = view(&wall);
+        assert!(!stood_there(&without, &here, &scan));
+        let c = ClassifyConfig::default();
+        assert!(person_sized(&here, &c));
+        assert!(!person_sized(&[here, post(12.0, 0.5)].concat(), &c));
+    }
+}
