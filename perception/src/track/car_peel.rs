@@ -180,6 +180,7 @@ pub struct CarPeeler {
     dbscan: Dbscan,
     clustering: Clustering,
     fine: Vec<Point>,
+    measures: Vec<Option<Measure>>,
     owner: Vec<u32>,
     xy: Vec<Vector2<f64>>,
     writer: PartWriter,
@@ -194,6 +195,7 @@ impl Default for CarPeeler {
             }),
             clustering: Clustering::default(),
             fine: Vec::new(),
+            measures: Vec::new(),
             owner: Vec::new(),
             xy: Vec::new(),
             writer: PartWriter::default(),
@@ -216,7 +218,8 @@ impl CarPeeler {
     ) {
         let cars = match self.look(points, sensor, ground, shape) {
             Some(whole) if self.dbscan.run(points, &mut self.clustering).is_ok() => {
-                let (cars, rest) = self.find_cars(points, sensor, ground, shape, false);
+                self.measure_parts(points, sensor, ground, shape);
+                let (cars, rest) = self.mark_cars(points.len(), shape, false);
                 // A row as narrow as a car is cars only: a low building's wall, a container,
                 // a hedge have car-shaped stretches too. Close by, the field of view cuts
                 // the top of vans parked bumper to bumper: such a row is all vans when every
@@ -225,7 +228,7 @@ impl CarPeeler {
                 if !row || rest < MIN_CAR_POINTS {
                     cars
                 } else {
-                    match self.find_cars(points, sensor, ground, shape, true) {
+                    match self.mark_cars(points.len(), shape, true) {
                         (cars, rest) if cars >= 2 && rest < MIN_CAR_POINTS => cars,
                         _ => 0,
                     }
@@ -264,30 +267,39 @@ impl CarPeeler {
         })
     }
 
-    /// Marks, in `self.owner`, each cluster of `self.clustering` (`points` clustered again
-    /// with the fine radius) that is a car (its top perhaps `cut` by the field of view) with
-    /// its number and every other point with the number after the last car's. Returns how
-    /// many cars it found and how many points are left.
-    fn find_cars(
+    /// Measures each cluster of `self.clustering` (`points` clustered again with the fine
+    /// radius) into `self.measures`: `None` for one too small or out of a car's limits.
+    fn measure_parts(
         &mut self,
         points: &[Point],
         sensor: Vector3<f64>,
         ground: &Ground,
         shape: &CarShape,
-        cut: bool,
-    ) -> (u32, usize) {
-        self.owner.clear();
-        self.owner.resize(points.len(), u32::MAX);
+    ) {
         let limits = shape.limits();
-        let mut cars = 0;
+        self.measures.clear();
         for members in self.clustering.clusters() {
             if members.len() < MIN_CAR_POINTS {
+                self.measures.push(None);
                 continue;
             }
             self.fine.clear();
             self.fine
                 .extend(members.iter().map(|&i| points[i as usize]));
             let measure = Measure::of(&self.fine, sensor, ground, &limits, &mut self.xy);
+            self.measures.push(measure);
+        }
+    }
+
+    /// Marks, in `self.owner` (one entry for each of the `len` points), each measured cluster
+    /// that is a car (its top perhaps `cut` by the field of view) with its number and every
+    /// other point with the number after the last car's. Returns how many cars it found and
+    /// how many points are left.
+    fn mark_cars(&mut self, len: usize, shape: &CarShape, cut: bool) -> (u32, usize) {
+        self.owner.clear();
+        self.owner.resize(len, u32::MAX);
+        let mut cars = 0;
+        for (members, measure) in self.clustering.clusters().zip(&self.measures) {
             if measure.is_some_and(|m| shape.is_a_car(&m, cut)) {
                 for &i in members {
                     self.owner[i as usize] = cars;

@@ -893,10 +893,8 @@ fn judge_motion(
             return;
         }
         if !t.probes.is_empty() && age >= c.motion_probe_max_age {
-            let (through, hit) = count_views(now, t.probes.iter().copied(), |image, p| {
-                image.visibility_across(p, LEFT_HALF_WIDTH)
-            });
-            if hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64 {
+            let (through, hit) = left_counts(t, now);
+            if mostly_hit((through, hit)) {
                 tracing::trace!(
                     "track {} has not left: seen through {through}, hit {hit}",
                     t.id
@@ -907,9 +905,7 @@ fn judge_motion(
             }
         }
         if t.probes.is_empty() || age >= c.motion_probe_max_age {
-            t.probes.clear();
-            t.probes.extend(probe_points(points, scan));
-            t.probe_time = scan.timestamp;
+            take_probes(t, points, scan);
         }
         return;
     }
@@ -919,18 +915,14 @@ fn judge_motion(
         c.motion_probe_min_age
     };
     if !t.probes.is_empty() && age >= min_age {
-        let left = count_views(now, t.probes.iter().copied(), |image, p| {
-            image.visibility_across(p, LEFT_HALF_WIDTH)
-        });
+        let then = views.at(t.probe_time);
         // A person-sized track whose probes are free now but whose cluster stood where it
         // stands when they were taken slid from a walker onto a post beside them.
-        let slid = person_sized(points, c)
-            && views
-                .at(t.probe_time)
-                .is_some_and(|then| stood_there(then, points, scan));
-        let left = if slid { (0, 0) } else { left };
-        let then = views.at(t.probe_time).filter(|_| may_have_arrived);
-        let arrived = then.map_or((0, 0), |then| arrived_counts(then, points, scan));
+        let slid = person_sized(points, c) && then.is_some_and(|v| stood_there(v, points, scan));
+        let left = if slid { (0, 0) } else { left_counts(t, now) };
+        let arrived = then
+            .filter(|_| may_have_arrived)
+            .map_or((0, 0), |then| arrived_counts(then, points, scan));
         for (way, counts) in [("left", left), ("arrived", arrived)] {
             if start_moving_if_free(t, counts, way, scan, c) {
                 return;
@@ -938,9 +930,7 @@ fn judge_motion(
         }
     }
     if t.probes.is_empty() || age > c.motion_probe_max_age {
-        t.probes.clear();
-        t.probes.extend(probe_points(points, scan));
-        t.probe_time = scan.timestamp;
+        take_probes(t, points, scan);
     }
     // A young track's probes are too fresh to tell anything yet; where it stands now may
     // have been free space in the scan that long before its birth (a walker who came out
@@ -954,6 +944,27 @@ fn judge_motion(
     }
 }
 
+/// Replaces the probes of track `t` with those of its cluster's `points` in this scan.
+fn take_probes(t: &mut Track, points: &[Point], scan: &ScanContext<'_>) {
+    t.probes.clear();
+    t.probes.extend(probe_points(points, scan));
+    t.probe_time = scan.timestamp;
+}
+
+/// How many of the probes of track `t` the scan `now` sees through and how many it hits:
+/// whether the object has left the place they were taken.
+fn left_counts(t: &Track, now: &View) -> (usize, usize) {
+    count_views(now, t.probes.iter().copied(), |image, p| {
+        image.visibility_across(p, LEFT_HALF_WIDTH)
+    })
+}
+
+/// Whether, of the probes a view decides on (`counts`: seen through, hit), at least
+/// [`MIN_DECIDED_PROBES`] and [`STAYED_FRACTION`] of them were hit: something stands there.
+fn mostly_hit((through, hit): (usize, usize)) -> bool {
+    hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64
+}
+
 /// Whether `points` reach no farther along x or y than a pedestrian's length.
 fn person_sized(points: &[Point], c: &ClassifyConfig) -> bool {
     let b = Bounds::of(points);
@@ -963,10 +974,9 @@ fn person_sized(points: &[Point], c: &ClassifyConfig) -> bool {
 /// Whether the earlier view `then` hit the probe points of a cluster's `points` where they
 /// are (in [`STAYED_FRACTION`] of those it decides on): the cluster stood there then.
 fn stood_there(then: &View, points: &[Point], scan: &ScanContext<'_>) -> bool {
-    let (through, hit) = count_views(then, probe_points(points, scan), |image, p| {
+    mostly_hit(count_views(then, probe_points(points, scan), |image, p| {
         image.visibility_across(p, 0.0)
-    });
-    hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64
+    }))
 }
 
 /// How many of the probe points of a cluster's `points` the earlier view `then` saw through
