@@ -1,7 +1,8 @@
 //! Trucks, which are objects only once seen moving (as long as a building's porch): one driving
 //! away, seen from behind only, whose length never shows, so that its centre is placed with a
 //! truck's length once it is seen moving and as tall as a truck, not with a car's (which would
-//! put it 2.5 m short of its true centre); and one passing at highway speed, gone from view
+//! put it 2.5 m short of its true centre), and stays a truck once its top no longer shows;
+//! and one passing at highway speed, gone from view
 //! before a walker's motion is judged.
 
 mod track_support;
@@ -9,8 +10,8 @@ mod view_support;
 
 use nalgebra::{Isometry3, Vector2};
 use track_support::{FLAT, flat_clusters};
-use trackd_perception::Point;
 use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker};
+use trackd_perception::{Point, TrackState};
 use view_support::{SENSOR_Z, record_view};
 
 /// The truck: 9.5 m long, 2.5 m wide, 3.3 m tall.
@@ -40,12 +41,12 @@ fn rear_up_to(x: f64, top: f64) -> Vec<Point> {
 
 /// Runs `scans` scans at 10 Hz of the sensor standing at the origin, seeing at time `t` the
 /// truck's points `truck(t)` (its one cluster) and `background` beyond it; returns, per scan,
-/// the centres of the reported tracks.
+/// the reported tracks.
 fn drive(
     scans: u32,
     truck: impl Fn(f64) -> Vec<Point>,
     background: &[Point],
-) -> Vec<Vec<Vector2<f64>>> {
+) -> Vec<Vec<TrackState>> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let mut views = RecentViews::new(2.0);
     let ground = Ground::horizontal(0.0);
@@ -65,27 +66,22 @@ fn drive(
             views: Some(&views),
         };
         tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        out.push(
-            tracker
-                .reported()
-                .map(|tr| tr.state().center.xy())
-                .collect(),
-        );
+        out.push(tracker.reported().map(|tr| tr.state()).collect());
     }
     out
 }
 
 /// Per scan of `reported`, the distance (m) from the truck's true centre, `center(t)` metres
 /// ahead, to the nearest reported track (infinite when none is).
-fn centre_errors(reported: &[Vec<Vector2<f64>>], center: impl Fn(f64) -> f64) -> Vec<f64> {
+fn centre_errors(reported: &[Vec<TrackState>], center: impl Fn(f64) -> f64) -> Vec<f64> {
     reported
         .iter()
         .enumerate()
-        .map(|(k, centres)| {
+        .map(|(k, tracks)| {
             let truth = Vector2::new(center(k as f64 * 0.1), 0.0);
-            centres
+            tracks
                 .iter()
-                .map(|c| (c - truth).norm())
+                .map(|tr| (tr.center.xy() - truth).norm())
                 .fold(f64::INFINITY, f64::min)
         })
         .collect()
@@ -117,20 +113,35 @@ fn a_truck_whose_top_the_field_of_view_cuts_is_centred_with_a_trucks_length() {
     );
 }
 
-/// What the sensor at the origin sees of the truck whose centre is `x` metres along the road
-/// `y` metres to the left: its side and the end that faces the sensor.
-fn side_and_end(x: f64, y: f64) -> Vec<Point> {
+#[test]
+fn a_truck_seen_whole_stays_a_truck_when_its_top_no_longer_shows() {
+    // Driving away, seen as tall as it is for a second; then, farther, its top returns nothing
+    // and it looks no taller than a van for two seconds more: a car's length would put its
+    // centre 2.5 m short.
+    let center = |t: f64| 15.0 + 8.0 * t;
+    let top = |t: f64| if t < 1.0 { HEIGHT } else { 2.3 };
+    let reported = drive(30, |t| rear_up_to(center(t), top(t)), &[]);
+    let errors = centre_errors(&reported, center);
+    assert!(
+        errors[15..].iter().all(|&e| e < 1.0),
+        "centre errors (m) per scan: {errors:.2?}"
+    );
+}
+
+/// What the sensor at the origin sees of the truck `length` metres long whose centre is `x`
+/// metres along the road `y` metres to the left: its side and the end that faces the sensor.
+fn side_and_end(length: f64, x: f64, y: f64) -> Vec<Point> {
     let side = y - WIDTH / 2.0;
     let end = if x < 0.0 {
-        x + LENGTH / 2.0
+        x + length / 2.0
     } else {
-        x - LENGTH / 2.0
+        x - length / 2.0
     };
     let mut out = Vec::new();
     for row in 0..=((HEIGHT - 0.2) / 0.1).round() as i32 {
         let z = 0.2 + 0.1 * f64::from(row);
-        for i in 0..=(LENGTH / 0.1).round() as i32 {
-            let along = x - LENGTH / 2.0 + 0.1 * f64::from(i);
+        for i in 0..=(length / 0.1).round() as i32 {
+            let along = x - length / 2.0 + 0.1 * f64::from(i);
             out.push(Point::new(along as f32, side as f32, z as f32, 0.0));
         }
         for i in 1..=(WIDTH / 0.1).round() as i32 {
@@ -162,17 +173,35 @@ fn wall() -> Vec<Point> {
 fn a_truck_passing_at_highway_speed_is_reported_from_its_third_scan() {
     // 30 m/s, 12 m to the left, from 30 m behind the sensor to 30 m ahead of it: 21 scans.
     let center = |t: f64| -30.0 + 30.0 * t;
-    let seen = drive(21, |t| side_and_end(center(t), 12.0), &wall());
+    let seen = drive(21, |t| side_and_end(LENGTH, center(t), 12.0), &wall());
     let reported: Vec<bool> = seen
         .iter()
         .enumerate()
-        .map(|(k, centres)| {
+        .map(|(k, tracks)| {
             let truth = Vector2::new(center(k as f64 * 0.1), 12.0);
-            centres.iter().any(|c| (c - truth).norm() < 2.0)
+            tracks
+                .iter()
+                .any(|tr| (tr.center.xy() - truth).norm() < 2.0)
         })
         .collect();
     assert!(
         reported[2..].iter().all(|&r| r),
         "reported per scan: {reported:?}"
+    );
+}
+
+#[test]
+fn a_truck_seen_along_its_side_takes_the_length_it_shows() {
+    // 7.8 m long, shorter than a truck's prior length, passing 12 m to the left at 20 m/s.
+    let length = 7.8;
+    let center = |t: f64| -20.0 + 20.0 * t;
+    let seen = drive(16, |t| side_and_end(length, center(t), 12.0), &wall());
+    let lengths: Vec<f64> = seen[5..]
+        .iter()
+        .map(|tracks| tracks.iter().map(|tr| tr.size.x).fold(0.0, f64::max))
+        .collect();
+    assert!(
+        lengths.iter().all(|&l| (l - length).abs() < 0.3),
+        "reported lengths (m) per scan: {lengths:.2?}"
     );
 }

@@ -119,6 +119,10 @@ pub struct Track {
     /// [`WIDTH_SINK`] a scan; 0 when none was.
     person_width: f64,
     moving: bool,
+    /// Whether a view showed the moving car-class track to be a truck or a bus (see
+    /// [`is_truck`]): seen from farther or end on, a truck shows no more than a van's height,
+    /// and it stays a truck.
+    truck: bool,
     /// While moving: where the track was when it last moved [`STILL_RADIUS`] away from the
     /// place before, and when (s).
     still_since: (Vector2<f64>, f64),
@@ -574,6 +578,7 @@ impl Tracker {
             probes: Vec::new(),
             probe_time: scan.timestamp,
             heading_flips: 0,
+            truck: false,
             cluster: Some(j),
             last_seen: (center.xy(), scan.timestamp),
         });
@@ -728,20 +733,32 @@ fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
     }
 }
 
-/// The size prior of the track's class (its identity, else this view's verdict; a car as
-/// tall as a truck is a truck once seen moving: a facade cut by the field of view is as
-/// tall), else what the track has seen.
+/// The size prior of the track's class (its identity, else this view's verdict; a car-class
+/// track shown to be a truck while moving is a truck, see [`Track::truck`]: a facade cut by
+/// the field of view is as tall), else what the track has seen.
 fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
-    let class = t.identity().or(match o.verdict {
-        ShapeVerdict::Object(c) | ShapeVerdict::Movable(c) => Some(c),
-        _ => None,
-    });
     let c = &config.classify;
-    let prior = match class {
-        Some(ObjectClass::Car) if t.moving && is_truck(t, o, c) => Some(c.truck_size),
+    let prior = match size_class(t, o) {
+        Some(ObjectClass::Car) if t.moving && t.truck && shorter_than_car(o, c) => {
+            Some(c.truck_size)
+        }
         other => other.and_then(|class| c.size_of(class)),
     };
     prior.map_or(t.size.xy(), |p| Vector2::new(p.length, p.width))
+}
+
+/// Whether view `o` shows less than a car's length (a truck seen end on or in part: its
+/// length unseen); a longer view shows the truck's length itself.
+fn shorter_than_car(o: &Observation, c: &ClassifyConfig) -> bool {
+    o.rect.extent.x.max(o.rect.extent.y) < c.car_max_length
+}
+
+/// The class whose size track `t` takes: its identity, else view `o`'s verdict.
+fn size_class(t: &Track, o: &Observation) -> Option<ObjectClass> {
+    t.identity().or(match o.verdict {
+        ShapeVerdict::Object(c) | ShapeVerdict::Movable(c) => Some(c),
+        _ => None,
+    })
 }
 
 /// A view cut by the field of view this high (m) or higher is a truck's or a bus's: vans
@@ -759,6 +776,8 @@ fn is_truck(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
 /// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
 /// never below the class prior.
 fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfig) {
+    t.truck |=
+        t.moving && size_class(t, o) == Some(ObjectClass::Car) && is_truck(t, o, &config.classify);
     let prior = class_size(t, o, config);
     let (seen_l, seen_w) = extents_along(o, heading);
     let target = Vector3::new(seen_l.max(prior.x), seen_w.max(prior.y), o.shape.top);
