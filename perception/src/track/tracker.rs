@@ -380,6 +380,7 @@ impl Tracker {
             .resize_with(self.tracks.len(), TrackPairs::default);
         for (t, pairs) in self.tracks.iter().zip(&mut self.pairs) {
             pairs.pairs.clear();
+            let object = t.identity().is_some();
             let range = (t.motion.position() - scan.sensor()).xy().norm();
             let predicted = t
                 .motion
@@ -394,6 +395,7 @@ impl Tracker {
                 let too_long = o.shape.length > longest;
                 if gated
                     && (too_long
+                        || (object && is_pole(o))
                         || (o.rect.center - predicted.mean).norm()
                             > reach + o.rect.extent.norm() / 2.0)
                 {
@@ -789,6 +791,13 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
         };
         t.size[k] += rate * (target[k] - t.size[k]);
     }
+}
+
+/// Whether view `o` is a pole's: no object seen in part is thin and taller than a person, so
+/// a track identified as an object does not take it (a far parked car's track took the post
+/// beside it in every scan that missed the car, and was reported between the two).
+fn is_pole(o: &Observation) -> bool {
+    o.verdict == ShapeVerdict::Structure(StructureKind::Pole)
 }
 
 /// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
