@@ -7,10 +7,9 @@
 
 mod track_support;
 
-use nalgebra::{Isometry3, Vector2};
-use track_support::{FLAT, flat_clusters, reported_per_scan};
+use nalgebra::Vector2;
+use track_support::{reported_per_scan, reported_states_per_scan};
 use trackd_perception::Point;
-use trackd_perception::track::{Ground, ScanContext, TrackConfig, Tracker};
 
 /// The rear (x = 33 m) and the near side (y = 4.1 m) of a 4.5 x 1.8 m car, 0.2 m to 1.5 m
 /// above the ground (world frame, ground at z = 0), every 0.1 m.
@@ -142,31 +141,23 @@ fn post_beside_far_car() -> Vec<Point> {
 fn a_far_cars_track_does_not_take_the_post_beside_it() {
     // Far away, the car's sparse returns come and go: after four clear views, scans that show
     // the car alternate with scans that show only the post.
-    let mut tracker = Tracker::new(TrackConfig::default());
-    let ground = Ground::horizontal(0.0);
-    let cdf = FLAT.cdf();
     let car_center = Vector2::new(46.25, 4.1);
-    let mut errors = Vec::new();
-    for k in 0..20u32 {
-        let clouds = vec![if k < 4 || k % 2 == 0 {
+    let reported = reported_states_per_scan(20, |k| {
+        if k < 4 || k % 2 == 0 {
             far_car()
         } else {
             post_beside_far_car()
-        }];
-        let scan = ScanContext {
-            timestamp: f64::from(k) * 0.1,
-            pose: Isometry3::translation(0.0, 0.0, 1.73),
-            ground: &ground,
-            range_limit: f64::INFINITY,
-            views: None,
-        };
-        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        let error = tracker
-            .reported()
-            .map(|t| (t.state().center.xy() - car_center).norm())
-            .fold(f64::INFINITY, f64::min);
-        errors.push(error);
-    }
+        }
+    });
+    let errors: Vec<f64> = reported
+        .iter()
+        .map(|tracks| {
+            tracks
+                .iter()
+                .map(|t| (t.center.xy() - car_center).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
     assert!(
         errors[1..].iter().all(|&e| e < 0.5),
         "distance (m) of the nearest reported track from the car, per scan: {errors:.2?}"

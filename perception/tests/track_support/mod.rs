@@ -2,9 +2,9 @@
 //! so that the tests exercise geometry and motion, not the VFH tests.
 
 use nalgebra::Isometry3;
-use trackd_perception::Point;
 use trackd_perception::track::{ClusterInput, Ground, ScanContext, TrackConfig, Tracker};
 use trackd_perception::vfh::{BINS, Vfh};
+use trackd_perception::{Point, TrackState};
 
 /// A uniform signature.
 pub const FLAT: Vfh = Vfh {
@@ -30,6 +30,18 @@ pub fn flat_clusters<'a>(clouds: &'a [Vec<Point>], cdf: &'a [f32; BINS]) -> Vec<
 /// returns, per scan, whether a track is reported.
 #[allow(dead_code)] // Not every test that includes this module runs static scenes.
 pub fn reported_per_scan(scans: u32, cloud: impl Fn(u32) -> Vec<Point>) -> Vec<bool> {
+    reported_states_per_scan(scans, cloud)
+        .iter()
+        .map(|reported| !reported.is_empty())
+        .collect()
+}
+
+/// As [`reported_per_scan`], but returns, per scan, the reported tracks' states.
+#[allow(dead_code)] // Not every test that includes this module runs static scenes.
+pub fn reported_states_per_scan(
+    scans: u32,
+    cloud: impl Fn(u32) -> Vec<Point>,
+) -> Vec<Vec<TrackState>> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let ground = Ground::horizontal(0.0);
     let cdf = FLAT.cdf();
@@ -44,7 +56,7 @@ pub fn reported_per_scan(scans: u32, cloud: impl Fn(u32) -> Vec<Point>) -> Vec<b
                 views: None,
             };
             tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-            tracker.reported().next().is_some()
+            tracker.reported().map(|t| t.state()).collect()
         })
         .collect()
 }
