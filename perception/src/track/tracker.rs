@@ -380,7 +380,7 @@ impl Tracker {
             .resize_with(self.tracks.len(), TrackPairs::default);
         for (t, pairs) in self.tracks.iter().zip(&mut self.pairs) {
             pairs.pairs.clear();
-            let object = t.identity().is_some();
+            let identity = t.identity();
             let range = (t.motion.position() - scan.sensor()).xy().norm();
             let predicted = t
                 .motion
@@ -395,7 +395,7 @@ impl Tracker {
                 let too_long = o.shape.length > longest;
                 if gated
                     && (too_long
-                        || (object && is_pole(o))
+                        || foreign_view(identity, t.truck, o, &self.config.classify)
                         || (o.rect.center - predicted.mean).norm()
                             > reach + o.rect.extent.norm() / 2.0)
                 {
@@ -793,11 +793,31 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
     }
 }
 
-/// Whether view `o` is a pole's: no object seen in part is thin and taller than a person, so
-/// a track identified as an object does not take it (a far parked car's track took the post
-/// beside it in every scan that missed the car, and was reported between the two).
-fn is_pole(o: &Observation) -> bool {
-    o.verdict == ShapeVerdict::Structure(StructureKind::Pole)
+/// Whether a track identified as `identity` (a truck if `truck`) cannot have seen view `o` of
+/// itself: seen in part, no object is a pole (thin and taller than a person,
+/// `pole_min_height`: a far parked car's track took the post beside it in every scan that
+/// missed the car, and was reported between the two), nor floats above the ground reaching
+/// higher than its class stands (a person no taller than a pole's least height, a car or van
+/// than `whole_van_max_height`; a sign, a canopy or a crown over it; a truck's cab seen over
+/// the cars before it is the truck's).
+fn foreign_view(
+    identity: Option<ObjectClass>,
+    truck: bool,
+    o: &Observation,
+    c: &ClassifyConfig,
+) -> bool {
+    let Some(class) = identity else {
+        return false;
+    };
+    match o.verdict {
+        ShapeVerdict::Structure(StructureKind::Pole) => true,
+        ShapeVerdict::Structure(StructureKind::Floating) => match class {
+            ObjectClass::Car => !truck && o.shape.top > c.whole_van_max_height,
+            ObjectClass::Pedestrian | ObjectClass::Cyclist => o.shape.top > c.pole_min_height,
+            ObjectClass::Unknown | ObjectClass::OtherMovable => false,
+        },
+        _ => false,
+    }
 }
 
 /// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
@@ -1171,5 +1191,56 @@ mod tests {
         let c = ClassifyConfig::default();
         assert!(person_sized(&here, &c));
         assert!(!person_sized(&[here, post(12.0, 0.5)].concat(), &c));
+    }
+
+    /// A board 1 m wide, 0.1 m apart, `bottom` to `top` metres up, facing the sensor 20 m
+    /// ahead (world frame, ground z = 0).
+    fn board(bottom: f32, top: f32) -> Vec<Point> {
+        let rows = ((top - bottom) / 0.1).round() as i32;
+        (0..=rows)
+            .flat_map(|row| {
+                (0..=10)
+                    .map(move |i| Point::new(20.0, 0.1 * i as f32, bottom + 0.1 * row as f32, 0.0))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn no_object_seen_in_part_is_a_pole_or_floats_above_its_class() {
+        let ground = Ground::horizontal(0.0);
+        let scan = ScanContext {
+            timestamp: 0.0,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground: &ground,
+            range_limit: 50.0,
+            views: None,
+        };
+        let c = ClassifyConfig::default();
+        let observe = |points: &[Point]| Observer::default().observe(points, 0.0, &scan, &c);
+        let (car, person) = (Some(ObjectClass::Car), Some(ObjectClass::Pedestrian));
+        // A post 3 m tall: nobody's part.
+        let pole: Vec<Point> = (0..28)
+            .map(|k| Point::new(20.0, 0.0, 0.2 + 0.1 * k as f32, 0.0))
+            .collect();
+        let pole = observe(&pole);
+        assert_eq!(pole.verdict, ShapeVerdict::Structure(StructureKind::Pole));
+        assert!(foreign_view(car, false, &pole, &c) && foreign_view(person, false, &pole, &c));
+        assert!(!foreign_view(None, false, &pole, &c));
+        // A sign 1.8-3 m up: no car's, no person's; a truck's cab over the cars before it.
+        let sign = observe(&board(1.8, 3.0));
+        assert_eq!(
+            sign.verdict,
+            ShapeVerdict::Structure(StructureKind::Floating)
+        );
+        assert!(foreign_view(car, false, &sign, &c) && foreign_view(person, false, &sign, &c));
+        assert!(!foreign_view(car, true, &sign, &c));
+        // What shows of a car or a walker over the cars before them floats as low as they are.
+        let over_cars = observe(&board(1.2, 1.9));
+        assert_eq!(
+            over_cars.verdict,
+            ShapeVerdict::Structure(StructureKind::Floating)
+        );
+        assert!(!foreign_view(car, false, &over_cars, &c));
+        assert!(!foreign_view(person, false, &over_cars, &c));
     }
 }
