@@ -9,7 +9,7 @@ mod track_support;
 mod view_support;
 
 use nalgebra::{Isometry3, Vector2};
-use track_support::{FLAT, flat_clusters};
+use track_support::{FLAT, flat_clusters, nearest_distances};
 use trackd_perception::track::{Ground, RecentViews, ScanContext, TrackConfig, Tracker};
 use trackd_perception::{Point, TrackState};
 use view_support::{SENSOR_Z, record_view};
@@ -74,17 +74,7 @@ fn drive(
 /// Per scan of `reported`, the distance (m) from the truck's true centre, `center(t)` metres
 /// ahead, to the nearest reported track (infinite when none is).
 fn centre_errors(reported: &[Vec<TrackState>], center: impl Fn(f64) -> f64) -> Vec<f64> {
-    reported
-        .iter()
-        .enumerate()
-        .map(|(k, tracks)| {
-            let truth = Vector2::new(center(k as f64 * 0.1), 0.0);
-            tracks
-                .iter()
-                .map(|tr| (tr.center.xy() - truth).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect()
+    nearest_distances(reported, |k| Vector2::new(center(k as f64 * 0.1), 0.0))
 }
 
 #[test]
@@ -174,16 +164,11 @@ fn a_truck_passing_at_highway_speed_is_reported_from_its_third_scan() {
     // 30 m/s, 12 m to the left, from 30 m behind the sensor to 30 m ahead of it: 21 scans.
     let center = |t: f64| -30.0 + 30.0 * t;
     let seen = drive(21, |t| side_and_end(LENGTH, center(t), 12.0), &wall());
-    let reported: Vec<bool> = seen
-        .iter()
-        .enumerate()
-        .map(|(k, tracks)| {
-            let truth = Vector2::new(center(k as f64 * 0.1), 12.0);
-            tracks
-                .iter()
-                .any(|tr| (tr.center.xy() - truth).norm() < 2.0)
-        })
-        .collect();
+    let reported: Vec<bool> =
+        nearest_distances(&seen, |k| Vector2::new(center(k as f64 * 0.1), 12.0))
+            .iter()
+            .map(|&d| d < 2.0)
+            .collect();
     assert!(
         reported[2..].iter().all(|&r| r),
         "reported per scan: {reported:?}"

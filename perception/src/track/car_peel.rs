@@ -217,24 +217,8 @@ impl CarPeeler {
         parts: &mut Vec<Range<usize>>,
     ) {
         let cars = match self.look(points, sensor, ground, shape) {
-            Some(whole) if self.dbscan.run(points, &mut self.clustering).is_ok() => {
-                self.measure_parts(points, sensor, ground, shape);
-                let (cars, rest) = self.mark_cars(points.len(), shape, false);
-                // A row as narrow as a car is cars only: a low building's wall, a container,
-                // a hedge have car-shaped stretches too. Close by, the field of view cuts
-                // the top of vans parked bumper to bumper: such a row is all vans when every
-                // part of it is one.
-                let row = whole.width <= shape.max_width;
-                if !row || rest < MIN_CAR_POINTS {
-                    cars
-                } else {
-                    match self.mark_cars(points.len(), shape, true) {
-                        (cars, rest) if cars >= 2 && rest < MIN_CAR_POINTS => cars,
-                        _ => 0,
-                    }
-                }
-            }
-            _ => 0,
+            Some(whole) => self.find_cars(points, sensor, ground, shape, &whole),
+            None => 0,
         };
         if cars == 0 {
             parts.push(0..points.len());
@@ -265,6 +249,34 @@ impl CarPeeler {
         Measure::of(points, sensor, ground, &limits, &mut self.xy).filter(|m| {
             m.length <= MAX_CLUSTER_LENGTH && m.width <= MAX_CLUSTER_WIDTH && !shape.may_be_a_car(m)
         })
+    }
+
+    /// Clusters `points` (measuring `whole`) again with the fine radius and marks the cars
+    /// among the parts in `self.owner` (see [`Self::mark_cars`]); returns how many.
+    fn find_cars(
+        &mut self,
+        points: &[Point],
+        sensor: Vector3<f64>,
+        ground: &Ground,
+        shape: &CarShape,
+        whole: &Measure,
+    ) -> u32 {
+        if self.dbscan.run(points, &mut self.clustering).is_err() {
+            return 0;
+        }
+        self.measure_parts(points, sensor, ground, shape);
+        let (cars, rest) = self.mark_cars(points.len(), shape, false);
+        // A row as narrow as a car is cars only: a low building's wall, a container, a hedge
+        // have car-shaped stretches too. Close by, the field of view cuts the top of vans
+        // parked bumper to bumper: such a row is all vans when every part of it is one.
+        let row = whole.width <= shape.max_width;
+        if !row || rest < MIN_CAR_POINTS {
+            return cars;
+        }
+        match self.mark_cars(points.len(), shape, true) {
+            (cars, rest) if cars >= 2 && rest < MIN_CAR_POINTS => cars,
+            _ => 0,
+        }
     }
 
     /// Measures each cluster of `self.clustering` (`points` clustered again with the fine

@@ -119,9 +119,9 @@ pub struct Track {
     /// [`WIDTH_SINK`] a scan; 0 when none was.
     person_width: f64,
     moving: bool,
-    /// Whether a view showed the moving car-class track to be a truck or a bus (see
-    /// [`is_truck`]): seen from farther or end on, a truck shows no more than a van's height,
-    /// and it stays a truck.
+    /// Whether a view showed the car-class track to be a truck or a bus while it moved (see
+    /// [`is_truck`]; standing, a facade cut by the field of view is as tall): seen from farther
+    /// or end on, a truck shows no more than a van's height, and it stays a truck.
     truck: bool,
     /// While moving: where the track was when it last moved [`STILL_RADIUS`] away from the
     /// place before, and when (s).
@@ -736,8 +736,8 @@ fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
 }
 
 /// The size prior of the track's class (its identity, else this view's verdict; a car-class
-/// track shown to be a truck while moving is a truck, see [`Track::truck`]: a facade cut by
-/// the field of view is as tall), else what the track has seen.
+/// track shown to be a truck while moving, see [`Track::truck`], takes a truck's in the views
+/// shorter than a car), else what the track has seen.
 fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
     let c = &config.classify;
     let prior = match size_class(t, o) {
@@ -796,7 +796,7 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
 /// Whether a track identified as `identity` (a truck if `truck`) cannot have seen view `o` of
 /// itself: seen in part, no object is a pole (thin and taller than a person,
 /// `pole_min_height`: a far parked car's track took the post beside it in every scan that
-/// missed the car, and was reported between the two), nor floats above the ground reaching
+/// missed the car, and was reported more than 2 m from the car), nor floats above the ground reaching
 /// higher than its class stands (a person no taller than a pole's least height, a car or van
 /// than `whole_van_max_height`; a sign, a canopy or a crown over it; a truck's cab seen over
 /// the cars before it is the truck's).
@@ -1149,6 +1149,18 @@ mod tests {
         out
     }
 
+    /// A scan at `timestamp` by a sensor 1.73 m above the world origin, over `ground`, cut at
+    /// 50 m, with no earlier views.
+    fn scan_at(timestamp: f64, ground: &Ground) -> ScanContext<'_> {
+        ScanContext {
+            timestamp,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground,
+            range_limit: 50.0,
+            views: None,
+        }
+    }
+
     /// A view from a sensor 1.73 m above the world origin of the world-frame `points`.
     fn view(points: &[Point]) -> View {
         let pose = Isometry3::translation(0.0, 0.0, 1.73);
@@ -1168,13 +1180,7 @@ mod tests {
     #[test]
     fn a_post_stood_where_it_stands_a_walker_who_came_there_did_not() {
         let ground = Ground::horizontal(0.0);
-        let scan = ScanContext {
-            timestamp: 0.5,
-            pose: Isometry3::translation(0.0, 0.0, 1.73),
-            ground: &ground,
-            range_limit: 50.0,
-            views: None,
-        };
+        let scan = scan_at(0.5, &ground);
         // A wall 30 m away behind everything.
         let wall: Vec<Point> = (0..400)
             .flat_map(|i| {
@@ -1208,13 +1214,7 @@ mod tests {
     #[test]
     fn no_object_seen_in_part_is_a_pole_or_floats_above_its_class() {
         let ground = Ground::horizontal(0.0);
-        let scan = ScanContext {
-            timestamp: 0.0,
-            pose: Isometry3::translation(0.0, 0.0, 1.73),
-            ground: &ground,
-            range_limit: 50.0,
-            views: None,
-        };
+        let scan = scan_at(0.0, &ground);
         let c = ClassifyConfig::default();
         let observe = |points: &[Point]| Observer::default().observe(points, 0.0, &scan, &c);
         let (car, person) = (Some(ObjectClass::Car), Some(ObjectClass::Pedestrian));

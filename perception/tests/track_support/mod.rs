@@ -1,7 +1,7 @@
 //! What the tracker's synthetic tests share: clusters that all carry one uniform signature,
 //! so that the tests exercise geometry and motion, not the VFH tests.
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, Vector2};
 use trackd_perception::track::{ClusterInput, Ground, ScanContext, TrackConfig, Tracker};
 use trackd_perception::vfh::{BINS, Vfh};
 use trackd_perception::{Point, TrackState};
@@ -57,6 +57,25 @@ pub fn reported_states_per_scan(
             };
             tracker.step(&scan, &flat_clusters(&clouds, &cdf));
             tracker.reported().map(|t| t.state()).collect()
+        })
+        .collect()
+}
+
+/// Per scan `k` of `reported`, the distance (m) from `truth(k)` to the nearest reported track's
+/// centre; infinite when no track is reported.
+#[allow(dead_code)] // Not every test that includes this module places its objects.
+pub fn nearest_distances(
+    reported: &[Vec<TrackState>],
+    truth: impl Fn(usize) -> Vector2<f64>,
+) -> Vec<f64> {
+    reported
+        .iter()
+        .enumerate()
+        .map(|(k, tracks)| {
+            tracks
+                .iter()
+                .map(|t| (t.center.xy() - truth(k)).norm())
+                .fold(f64::INFINITY, f64::min)
         })
         .collect()
 }
