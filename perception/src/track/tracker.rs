@@ -968,9 +968,9 @@ fn judge_motion(
         // stands when they were taken slid from a walker onto a post beside them.
         let slid = person_sized(points, c) && then.is_some_and(|v| stood_there(v, points, scan));
         let left = if slid { (0, 0) } else { left_counts(t, now) };
-        let arrived = then
-            .filter(|_| may_have_arrived)
-            .map_or((0, 0), |then| arrived_counts(then, points, scan));
+        let arrived = then.filter(|_| may_have_arrived).map_or((0, 0), |then| {
+            arrived_counts(then, points, scan, RangeImage::visibility_past_occluders)
+        });
         for (way, counts) in [("left", left), ("arrived", arrived)] {
             if start_moving_if_free(t, counts, way, scan, c) {
                 return;
@@ -987,7 +987,10 @@ fn judge_motion(
         .then(|| views.before(t.probe_time, c.motion_probe_min_age))
         .flatten();
     if let Some(then) = before_birth {
-        let counts = arrived_counts(then, points, scan);
+        // Before its birth nothing of the track says what stood behind what hid it then, and
+        // the plain test is kept: judged past occluders, a static person-sized object 20 m
+        // away on KITTI 0000 was seen to arrive at its birth (15 false positives).
+        let counts = arrived_counts(then, points, scan, RangeImage::visibility_across);
         start_moving_if_free(t, counts, "arrived before its birth", scan, c);
     }
 }
@@ -1000,10 +1003,12 @@ fn take_probes(t: &mut Track, points: &[Point], scan: &ScanContext<'_>) {
 }
 
 /// How many of the probes of track `t` the scan `now` sees through and how many it hits:
-/// whether the object has left the place they were taken.
+/// whether the object has left the place they were taken. What stands well in front of a
+/// probe does not count: a walker coming along the line of sight hides the place they left
+/// from the rows of their own body, and a parked car the rows of their legs.
 fn left_counts(t: &Track, now: &View) -> (usize, usize) {
     count_views(now, t.probes.iter().copied(), |image, p| {
-        image.visibility_across(p, LEFT_HALF_WIDTH)
+        image.visibility_past_occluders(p, LEFT_HALF_WIDTH)
     })
 }
 
@@ -1028,10 +1033,16 @@ fn stood_there(then: &View, points: &[Point], scan: &ScanContext<'_>) -> bool {
 }
 
 /// How many of the probe points of a cluster's `points` the earlier view `then` saw through
-/// and how many it hit: whether where the cluster stands now was free space then.
-fn arrived_counts(then: &View, points: &[Point], scan: &ScanContext<'_>) -> (usize, usize) {
+/// and how many it hit, as `visibility` judges them: whether where the cluster stands now was
+/// free space then.
+fn arrived_counts(
+    then: &View,
+    points: &[Point],
+    scan: &ScanContext<'_>,
+    visibility: fn(&RangeImage, &Vector3<f64>, f64) -> Visibility,
+) -> (usize, usize) {
     count_views(then, probe_points(points, scan), |image, p| {
-        image.visibility_across(p, ARRIVAL_HALF_WIDTH)
+        visibility(image, p, ARRIVAL_HALF_WIDTH)
     })
 }
 

@@ -19,6 +19,9 @@ const ELEVATION_MIN_DEG: f64 = -30.0;
 const ELEVATION_MAX_DEG: f64 = 10.0;
 /// Ranges within this (m) of a probe's count as hitting it.
 const HIT_TOLERANCE: f64 = 0.4;
+/// Cells around a point that measured more than this (m) nearer than it show an occluder in
+/// front of it, not the space around it (see [`RangeImage::visibility_past_occluders`]).
+const OCCLUDER_GAP: f64 = 2.0;
 /// The widest window [`RangeImage::visibility_across`] looks at: this many columns to either
 /// side (5 degrees).
 const MAX_HALF_COLUMNS: i64 = 20;
@@ -208,26 +211,42 @@ impl RangeImage {
     /// is the cell and its 8 neighbours). A point on the edge of a thin post seen from a new
     /// angle, or from a pose a little off, is not free space.
     pub fn visibility_across(&self, p: &Vector3<f64>, half_width: f64) -> Visibility {
-        let horizontal = (p.x * p.x + p.y * p.y).sqrt();
-        let angle = (half_width / horizontal.max(1e-3)).atan().to_degrees();
-        let columns = ((angle / AZIMUTH_STEP_DEG).ceil() as i64).clamp(1, MAX_HALF_COLUMNS);
-        self.visibility_in_window(p, columns)
+        self.visibility_in_window(p, half_width, f64::INFINITY)
     }
 
-    /// What the scan shows of `p`, judged on the nearest range of the cells around its own:
-    /// one row to either side and `half_columns` columns.
-    fn visibility_in_window(&self, p: &Vector3<f64>, half_columns: i64) -> Visibility {
+    /// As [`Self::visibility_across`], but the cells around `p`'s own that measured more than
+    /// [`OCCLUDER_GAP`] nearer than it are left out: what stands well in front of a point
+    /// (a parked car hiding a walker's legs, from the rows below) tells nothing of the space
+    /// at the point. Its own cell measuring nearer still hides it.
+    pub fn visibility_past_occluders(&self, p: &Vector3<f64>, half_width: f64) -> Visibility {
+        self.visibility_in_window(p, half_width, OCCLUDER_GAP)
+    }
+
+    /// What the scan shows of `p`, judged on the nearest range of its own cell and of the
+    /// cells around it (one row to either side, the columns within `half_width` metres) that
+    /// measured at most `occluder_gap` nearer than `p`.
+    fn visibility_in_window(
+        &self,
+        p: &Vector3<f64>,
+        half_width: f64,
+        occluder_gap: f64,
+    ) -> Visibility {
         let Some((cell, range)) = self.cell_of(p) else {
             return Visibility::Unknown;
         };
+        let horizontal = (p.x * p.x + p.y * p.y).sqrt();
+        let angle = (half_width / horizontal.max(1e-3)).atan().to_degrees();
+        let half_columns = ((angle / AZIMUTH_STEP_DEG).ceil() as i64).clamp(1, MAX_HALF_COLUMNS);
+        let nearest_counted = (range - occluder_gap) as f32;
         let (row, column) = ((cell / self.columns) as i64, (cell % self.columns) as i64);
-        let mut measured = f64::INFINITY;
+        let mut measured = f64::from(self.ranges[cell]);
         for r in (row - 1..=row + 1).filter(|r| (0..self.rows as i64).contains(r)) {
             for dc in -half_columns..=half_columns {
                 let c = (column + dc).rem_euclid(self.columns as i64);
-                measured = measured.min(f64::from(
-                    self.ranges[r as usize * self.columns + c as usize],
-                ));
+                let around = self.ranges[r as usize * self.columns + c as usize];
+                if around >= nearest_counted {
+                    measured = measured.min(f64::from(around));
+                }
             }
         }
         if !measured.is_finite() {
@@ -347,11 +366,50 @@ mod tests {
             Visibility::SeenThrough
         );
         assert_eq!(image.visibility_across(&beside, 0.4), Visibility::Hit);
+        assert_eq!(
+            image.visibility_past_occluders(&beside, 0.4),
+            Visibility::Hit
+        );
         // Nothing within 0.4 m: free space either way.
         let clear = Vector3::new(15.0, 1.0, -0.5);
         assert_eq!(
             image.visibility_across(&clear, 0.4),
             Visibility::SeenThrough
+        );
+    }
+
+    #[test]
+    fn an_occluder_well_in_front_hides_only_its_own_directions_past_occluders() {
+        // A wall 40 m away; 15 m away, a low wall reaching up to the row just below the
+        // direction 1.75° down (row boundaries every 0.5° from -30°).
+        let mut points = wall(40.0);
+        let top = 15.0 * (-2.25f32).to_radians().tan();
+        for i in 0..200 {
+            for k in 0..=((top + 1.5) / 0.02) as usize {
+                let z = -1.5 + k as f32 * 0.02;
+                points.push(Point::new(15.0, -2.0 + i as f32 * 0.02, z, 0.0));
+            }
+        }
+        let mut image = RangeImage::default();
+        image.build(&points);
+        // 20 m away, above the low wall's top row: the rows below show the wall in front.
+        let above = Vector3::new(20.0, 0.0, 20.0 * (-1.75f64).to_radians().tan());
+        assert_eq!(image.visibility_across(&above, 0.15), Visibility::Hidden);
+        assert_eq!(
+            image.visibility_past_occluders(&above, 0.15),
+            Visibility::SeenThrough
+        );
+        // Straight behind the low wall: hidden either way.
+        let behind = Vector3::new(20.0, 0.0, 20.0 * (-3.25f64).to_radians().tan());
+        assert_eq!(
+            image.visibility_past_occluders(&behind, 0.15),
+            Visibility::Hidden
+        );
+        // Within the gap of the low wall: it still counts.
+        let near = Vector3::new(16.5, 0.0, 16.5 * (-1.75f64).to_radians().tan());
+        assert_eq!(
+            image.visibility_past_occluders(&near, 0.15),
+            Visibility::Hidden
         );
     }
 
