@@ -957,7 +957,8 @@ fn judge_motion(
         }
         return;
     }
-    let min_age = if has_moved_far(&t.probes, centroid) {
+    let moved_far = has_moved_far(&t.probes, centroid);
+    let min_age = if moved_far {
         FAST_PROBE_MIN_AGE
     } else {
         c.motion_probe_min_age
@@ -968,8 +969,15 @@ fn judge_motion(
         // stands when they were taken slid from a walker onto a post beside them.
         let slid = person_sized(points, c) && then.is_some_and(|v| stood_there(v, points, scan));
         let left = if slid { (0, 0) } else { left_counts(t, now) };
+        // A cluster far from where the track stood may be another one it jumped to, seen
+        // then between what stood in front of it: only the plain test tells its arrival.
+        let visibility = if moved_far {
+            RangeImage::visibility_across
+        } else {
+            RangeImage::visibility_past_occluders
+        };
         let arrived = then.filter(|_| may_have_arrived).map_or((0, 0), |then| {
-            arrived_counts(then, points, scan, RangeImage::visibility_past_occluders)
+            arrived_counts(then, points, scan, visibility)
         });
         for (way, counts) in [("left", left), ("arrived", arrived)] {
             if start_moving_if_free(t, counts, way, scan, c) {
