@@ -5,7 +5,7 @@
 
 mod drive_support;
 
-use drive_support::{reports, run_drive};
+use drive_support::scans_reported;
 use trackd_perception::ObjectClass;
 use trackd_sim::{Scenario, SimConfig};
 
@@ -22,14 +22,7 @@ const FRAMES: usize = 100;
 #[test]
 fn a_person_walking_behind_parked_cars_is_reported() {
     let drive = SimConfig::new(Scenario::Paper, FRAMES, SEED);
-    let mut reported = 0;
-    run_drive(&drive, LAST + 1, WALKER, |index, walker, output| {
-        if index >= FIRST {
-            let walker = walker.expect("the walker is in the ground truth");
-            reported += usize::from(reports(output, ObjectClass::Pedestrian, walker, 1.0));
-        }
-        true
-    });
+    let reported = scans_reported(&drive, WALKER, ObjectClass::Pedestrian, 1.0, FIRST..=LAST);
     let scans = LAST - FIRST + 1;
     assert!(
         reported * 10 >= scans * 8,
@@ -49,18 +42,13 @@ const TOWARDS_LAST: usize = 13;
 #[test]
 fn a_person_coming_towards_the_sensor_behind_parked_cars_is_reported_early() {
     let drive = SimConfig::new(Scenario::Intersection, FRAMES, TOWARDS_SEED);
-    let mut reported = 0;
-    run_drive(
+    let checked = TOWARDS_FIRST..=TOWARDS_LAST;
+    let reported = scans_reported(
         &drive,
-        TOWARDS_LAST + 1,
         TOWARDS_WALKER,
-        |index, walker, output| {
-            if index >= TOWARDS_FIRST {
-                let walker = walker.expect("the walker is in the ground truth");
-                reported += usize::from(reports(output, ObjectClass::Pedestrian, walker, 1.0));
-            }
-            true
-        },
+        ObjectClass::Pedestrian,
+        1.0,
+        checked,
     );
     let scans = TOWARDS_LAST - TOWARDS_FIRST + 1;
     assert!(

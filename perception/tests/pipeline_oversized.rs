@@ -4,7 +4,7 @@
 
 mod drive_support;
 
-use drive_support::{reports, run_drive};
+use drive_support::scans_reported;
 use trackd_perception::ObjectClass;
 use trackd_sim::{Scenario, SimConfig};
 
@@ -19,14 +19,7 @@ const LAST: usize = 95;
 #[test]
 fn a_person_walking_along_a_facade_is_peeled_off_it() {
     let drive = SimConfig::new(Scenario::Crowd, LAST + 1, SEED);
-    let mut reported = 0;
-    run_drive(&drive, LAST + 1, WALKER, |index, walker, output| {
-        if index >= FIRST {
-            let walker = walker.expect("the walker is in the ground truth");
-            reported += usize::from(reports(output, ObjectClass::Pedestrian, walker, 1.0));
-        }
-        true
-    });
+    let reported = scans_reported(&drive, WALKER, ObjectClass::Pedestrian, 1.0, FIRST..=LAST);
     let scans = LAST - FIRST + 1;
     assert!(
         reported * 10 >= scans * 8,

@@ -4,6 +4,8 @@
 
 #![allow(dead_code)] // each test file uses its own part of this module
 
+use std::ops::RangeInclusive;
+
 use nalgebra::{Isometry3, Point3};
 use trackd_perception::config::Config;
 use trackd_perception::{Ego, Frame, FrameOutput, ObjectClass, Pipeline, Vehicle};
@@ -66,4 +68,24 @@ pub fn reports(output: &FrameOutput, class: ObjectClass, seen: Seen, within: f64
         .tracks
         .iter()
         .any(|t| t.class == class && (t.center.x - seen.x).hypot(t.center.y - seen.y) < within)
+}
+
+/// In how many of the scans `checked` of the drive `sim` its object `id` (in the ground truth
+/// in each of them) is reported as `class` within `within` metres of where it stands.
+pub fn scans_reported(
+    sim: &SimConfig,
+    id: u32,
+    class: ObjectClass,
+    within: f64,
+    checked: RangeInclusive<usize>,
+) -> usize {
+    let mut reported = 0;
+    run_drive(sim, checked.end() + 1, id, |index, seen, output| {
+        if checked.contains(&index) {
+            let seen = seen.expect("the object is in the ground truth");
+            reported += usize::from(reports(output, class, seen, within));
+        }
+        true
+    });
+    reported
 }
