@@ -33,7 +33,8 @@ fn a_person_walking_behind_parked_cars_is_reported() {
 /// Pedestrian 35 of the seed-6 `intersection` drive walks towards the sensor along the
 /// parked cars, 25 m ahead and 5 m to the side at first, legs hidden: the place they left lies
 /// behind them along the line of sight, and the cars hide the rows below it. Before the cars
-/// were left out of that test, the walker was first seen moving, and reported, in scan 14.
+/// were left out of that test, the walker was first seen moving in scan 14 (and reported in
+/// one scan before it).
 const TOWARDS_SEED: u64 = 6;
 const TOWARDS_WALKER: u32 = 35;
 const TOWARDS_FIRST: usize = 4;

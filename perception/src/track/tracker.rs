@@ -796,8 +796,8 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
 /// Whether a track identified as `identity` (a truck if `truck`) cannot have seen view `o` of
 /// itself: seen in part, no object is a pole (thin and taller than a person,
 /// `pole_min_height`: a far parked car's track took the post beside it in every scan that
-/// missed the car, and was reported more than 2 m from the car), nor floats above the ground reaching
-/// higher than its class stands (a person no taller than a pole's least height, a car or van
+/// missed the car, and was reported more than 2 m from the car), nor floats above the ground
+/// reaching higher than its class stands (a person no taller than a pole's least height, a car or van
 /// than `whole_van_max_height`; a sign, a canopy or a crown over it; a truck's cab seen over
 /// the cars before it is the truck's).
 fn foreign_view(
@@ -996,8 +996,9 @@ fn judge_motion(
         .flatten();
     if let Some(then) = before_birth {
         // Before its birth nothing of the track says what stood behind what hid it then, and
-        // the plain test is kept: judged past occluders, a static person-sized object 20 m
-        // away on KITTI 0000 was seen to arrive at its birth (15 false positives).
+        // the plain test is kept: judged past occluders (1 m gap), a person-sized object 20 m
+        // away on KITTI 0000 that no label marks was seen to arrive at its birth (15 false
+        // positives).
         let counts = arrived_counts(then, points, scan, RangeImage::visibility_across);
         start_moving_if_free(t, counts, "arrived before its birth", scan, c);
     }
