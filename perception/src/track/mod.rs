@@ -15,6 +15,7 @@ pub mod dormant;
 pub mod fragments;
 pub mod ground;
 pub mod motion;
+mod movement;
 pub mod observation;
 mod parts;
 pub mod person_split;

@@ -3,7 +3,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use nalgebra::{Isometry3, Point3, Vector2, Vector3};
+use nalgebra::{Isometry3, Vector2, Vector3};
 use rayon::prelude::*;
 
 use super::assignment::Assigner;
@@ -14,12 +14,11 @@ use super::classify::{
 };
 use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
-use super::fragments::Bounds;
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
+use super::movement::{BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS};
 use super::observation::{Observation, Observer};
-use super::views::{RecentViews, View};
-use super::visibility::{RangeImage, Visibility};
+use super::views::RecentViews;
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
 
@@ -33,6 +32,10 @@ const SIZE_GROW_RATE: f64 = 0.5;
 /// An unmatched cluster whose centre lies this close (m) to a track's box is a fragment of
 /// that object, not a new one.
 const FRAGMENT_MARGIN: f64 = 0.5;
+/// Arrival is judged only on a view shaped like an object whose centre lies within this (m)
+/// of the track's predicted box: a track that jumped to another cluster stands where the
+/// laser passed freely before, and has not moved.
+const ARRIVAL_BOX_MARGIN: f64 = 1.0;
 
 /// One cluster handed to the tracker.
 #[derive(Clone, Copy, Debug)]
@@ -118,17 +121,11 @@ pub struct Track {
     /// The widest upper body (m) of a view shaped like a person lately, sinking by
     /// [`WIDTH_SINK`] a scan; 0 when none was.
     person_width: f64,
-    moving: bool,
+    movement: Movement,
     /// Whether a view showed the car-class track to be a truck or a bus while it moved (see
     /// [`is_truck`]; standing, a facade cut by the field of view is as tall): seen from farther
     /// or end on, a truck shows no more than a van's height, and it stays a truck.
     truck: bool,
-    /// While moving: where the track was when it last moved [`STILL_RADIUS`] away from the
-    /// place before, and when (s).
-    still_since: (Vector2<f64>, f64),
-    /// Points of an earlier cluster of the track (world frame) and when they were seen.
-    probes: Vec<Vector3<f64>>,
-    probe_time: f64,
     heading_flips: u32,
     cluster: Option<usize>,
     /// Where the box centre was after the last matched view (the motion model's estimate),
@@ -163,7 +160,7 @@ impl Track {
 
     /// Whether the track has been seen to move: the scan sees through where it was.
     pub fn is_moving(&self) -> bool {
-        self.moving
+        self.movement.is_moving()
     }
 
     /// Consecutive scans without a match.
@@ -175,13 +172,24 @@ impl Track {
     /// class its votes give now, or, for a static track they no longer identify, the one it
     /// holds (a parked car seen from farther: see the `held` field).
     pub fn identity(&self) -> Option<ObjectClass> {
-        let fresh = self.votes.identity(self.moving);
-        if fresh.is_some() || self.moving {
+        let moving = self.is_moving();
+        let fresh = self.votes.identity(moving);
+        if fresh.is_some() || moving {
             return fresh;
         }
         let (class, at, views) = self.held?;
         let near = (self.motion.position().xy() - at).norm() <= HOLD_RADIUS;
         (views >= HOLD_MIN_VIEWS && near && self.votes.may_hold(class)).then_some(class)
+    }
+
+    /// Judges whether the track, just matched to `seen`, moves (see [`Movement::judge`]).
+    fn judge_motion(&mut self, seen: &Sighting<'_>, scan: &ScanContext<'_>, c: &ClassifyConfig) {
+        let track = Subject {
+            id: self.id,
+            hits: self.hits,
+            position: self.motion.position().xy(),
+        };
+        self.movement.judge(track, seen, scan, c);
     }
 
     /// Updates [`Self::held`] after a view.
@@ -290,8 +298,8 @@ impl Tracker {
             .filter(|t| t.hits >= self.confirmed_hits())
             .filter_map(move |t| {
                 let class = t.identity()?;
-                let moving_person =
-                    t.moving && matches!(class, ObjectClass::Pedestrian | ObjectClass::Cyclist);
+                let moving_person = t.is_moving()
+                    && matches!(class, ObjectClass::Pedestrian | ObjectClass::Cyclist);
                 // A person's smoothed size creeps up with every view that holds a little of
                 // what they pass; their class's size is what carves them out of it.
                 let size = match self.config.classify.size_of(class) {
@@ -303,7 +311,7 @@ impl Tracker {
                     center: t.motion.position().xy() + t.motion.velocity() * dt,
                     heading: t.motion.yaw(),
                     size,
-                    moving_vehicle: t.moving && class == ObjectClass::Car,
+                    moving_vehicle: t.is_moving() && class == ObjectClass::Car,
                     moving_person,
                 })
             })
@@ -355,7 +363,7 @@ impl Tracker {
         self.tracks.retain(|t| {
             let lost = confidence.is_lost(t.confidence);
             if lost && t.hits >= CONFIRMED_HITS && t.identity().is_some() {
-                let velocity = if t.moving {
+                let velocity = if t.is_moving() {
                     t.motion.velocity()
                 } else {
                     Vector2::zeros()
@@ -477,15 +485,13 @@ impl Tracker {
                     .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
                 config.classify.vote_memory,
             );
-            judge_motion(
-                t,
-                cluster.points,
-                &o.centroid,
+            let seen = Sighting {
+                points: cluster.points,
+                centroid: &o.centroid,
                 may_have_arrived,
                 beside_moving,
-                scan,
-                config,
-            );
+            };
+            t.judge_motion(&seen, scan, &config.classify);
         }
         t.settle_identity();
         trace_view("update", t, o);
@@ -514,10 +520,9 @@ impl Tracker {
     /// Whether `center` lies within [`BESIDE_MOVING_MARGIN`] of the box of a moving track
     /// other than track `k`.
     fn beside_moving_track(&self, k: Option<usize>, center: &Vector2<f64>) -> bool {
-        self.tracks
-            .iter()
-            .enumerate()
-            .any(|(i, t)| Some(i) != k && t.moving && inside_box(t, center, BESIDE_MOVING_MARGIN))
+        self.tracks.iter().enumerate().any(|(i, t)| {
+            Some(i) != k && t.is_moving() && inside_box(t, center, BESIDE_MOVING_MARGIN)
+        })
     }
 
     /// Starts a track on cluster `j`.
@@ -575,10 +580,7 @@ impl Tracker {
             held: None,
             car_top: car_top(o),
             person_width: person_width(o),
-            moving: false,
-            still_since: (center.xy(), scan.timestamp),
-            probes: Vec::new(),
-            probe_time: scan.timestamp,
+            movement: Movement::new(center.xy(), scan.timestamp),
             heading_flips: 0,
             truck: false,
             cluster: Some(j),
@@ -589,15 +591,13 @@ impl Tracker {
                 o.verdict,
                 ShapeVerdict::Object(_) | ShapeVerdict::Movable(_)
             );
-            judge_motion(
-                t,
-                cluster.points,
-                &o.centroid,
-                shaped_like_an_object,
+            let seen = Sighting {
+                points: cluster.points,
+                centroid: &o.centroid,
+                may_have_arrived: shaped_like_an_object,
                 beside_moving,
-                scan,
-                config,
-            );
+            };
+            t.judge_motion(&seen, scan, &config.classify);
             t.settle_identity();
             trace_view("birth", t, o);
         }
@@ -741,7 +741,7 @@ fn extents_along(o: &Observation, heading: f64) -> (f64, f64) {
 fn class_size(t: &Track, o: &Observation, config: &TrackConfig) -> Vector2<f64> {
     let c = &config.classify;
     let prior = match size_class(t, o) {
-        Some(ObjectClass::Car) if t.moving && t.truck && shorter_than_car(o, c) => {
+        Some(ObjectClass::Car) if t.is_moving() && t.truck && shorter_than_car(o, c) => {
             Some(c.truck_size)
         }
         other => other.and_then(|class| c.size_of(class)),
@@ -778,8 +778,9 @@ fn is_truck(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
 /// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
 /// never below the class prior.
 fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfig) {
-    t.truck |=
-        t.moving && size_class(t, o) == Some(ObjectClass::Car) && is_truck(t, o, &config.classify);
+    t.truck |= t.is_moving()
+        && size_class(t, o) == Some(ObjectClass::Car)
+        && is_truck(t, o, &config.classify);
     let prior = class_size(t, o, config);
     let (seen_l, seen_w) = extents_along(o, heading);
     let target = Vector3::new(seen_l.max(prior.x), seen_w.max(prior.y), o.shape.top);
@@ -869,259 +870,6 @@ fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
     along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
 }
 
-/// Probes kept per track.
-const PROBES: usize = 24;
-/// Probes lower than this above the ground (m) are not kept: the ground answers for them.
-const PROBE_MIN_HEIGHT: f64 = 0.4;
-/// An object has arrived where it stands when an earlier scan saw farther along every
-/// direction up to this far (m) to either side of its points: a pose error or a thin post's
-/// narrow silhouette in a far view does not make a static object look arrived.
-const ARRIVAL_HALF_WIDTH: f64 = 0.4;
-/// An object has left the place of a probe when the scan now sees farther along every
-/// direction up to this far (m) to either side of it: near the sensor a cell is a few
-/// centimetres wide, and the pose's error would otherwise show a close post as gone.
-const LEFT_HALF_WIDTH: f64 = 0.15;
-/// Arrival is judged only on a view shaped like an object whose centre lies within this (m)
-/// of the track's predicted box: a track that jumped to another cluster stands where the
-/// laser passed freely before, and has not moved.
-const ARRIVAL_BOX_MARGIN: f64 = 1.0;
-/// A moving track that stays within this (m) of one place for [`STILL_TIME`] is judged
-/// afresh: a pedestrian who stopped, or a track that slid from a person onto a tree beside
-/// them and, judged moving, reported the tree as the person.
-const STILL_RADIUS: f64 = 1.0;
-/// How long (s) a moving track stays within [`STILL_RADIUS`] before it is judged afresh
-/// (2 s cost a pedestrian who waits a moment).
-const STILL_TIME: f64 = 3.0;
-/// A track whose cluster lies this far (m) from where its probes were taken... (a truck
-/// passing at highway speed is gone in half a second, before `motion_probe_min_age` lets a
-/// walker's probes clear their body; 1.5 m gave as many false positives as it won misses)
-const FAST_STEP: f64 = 3.0;
-/// ...judges its motion on probes from the scan before (s).
-const FAST_PROBE_MIN_AGE: f64 = 0.05;
-/// A moving track whose probes, `motion_probe_max_age` old, the scan still hits in this
-/// share of those it decides on has not left: it stands still (a static car whose track
-/// alternates with a post beside it, judged moving because it came into view).
-const STAYED_FRACTION: f64 = 0.8;
-/// Decided probes (seen through or hit) needed to judge motion.
-const MIN_DECIDED_PROBES: usize = 6;
-/// Tracks matched at most this many times are young: their arrival is also judged against
-/// the scan from before their birth.
-const YOUNG_HITS: u32 = 3;
-/// ...unless their view lies within this (m) of a moving track's box: a fragment of a moving
-/// object arrived as much as the object did, and is no other object.
-const BESIDE_MOVING_MARGIN: f64 = 2.0;
-
-/// Judges whether track `t`, just matched to `points` (centred at `centroid`), moves: where
-/// it was a moment ago is free space now (it left), or, when `may_have_arrived`, where it is
-/// now was free space across its width a moment ago (it arrived: the place it left may stay
-/// hidden behind it, when it comes nearer or follows the vehicle). Keeps fresh probes while
-/// it does not.
-fn judge_motion(
-    t: &mut Track,
-    points: &[Point],
-    centroid: &Vector3<f64>,
-    may_have_arrived: bool,
-    beside_moving: bool,
-    scan: &ScanContext<'_>,
-    config: &TrackConfig,
-) {
-    let Some((views, now)) = scan.views.and_then(|v| Some((v, v.latest()?))) else {
-        return;
-    };
-    let c = &config.classify;
-    let age = scan.timestamp - t.probe_time;
-    if t.moving {
-        let here = t.motion.position().xy();
-        if (here - t.still_since.0).norm() > STILL_RADIUS {
-            t.still_since = (here, scan.timestamp);
-        } else if scan.timestamp - t.still_since.1 >= STILL_TIME {
-            tracing::trace!("track {} has stood still: motion judged afresh", t.id);
-            t.moving = false;
-            t.probes.clear();
-            return;
-        }
-        if !t.probes.is_empty() && age >= c.motion_probe_max_age {
-            let (through, hit) = left_counts(t, now);
-            if mostly_hit((through, hit)) {
-                tracing::trace!(
-                    "track {} has not left: seen through {through}, hit {hit}",
-                    t.id
-                );
-                t.moving = false;
-                t.probes.clear();
-                return;
-            }
-        }
-        if t.probes.is_empty() || age >= c.motion_probe_max_age {
-            take_probes(t, points, scan);
-        }
-        return;
-    }
-    let moved_far = has_moved_far(&t.probes, centroid);
-    let min_age = if moved_far {
-        FAST_PROBE_MIN_AGE
-    } else {
-        c.motion_probe_min_age
-    };
-    if !t.probes.is_empty() && age >= min_age {
-        let then = views.at(t.probe_time);
-        // A person-sized track whose probes are free now but whose cluster stood where it
-        // stands when they were taken slid from a walker onto a post beside them.
-        let slid = person_sized(points, c) && then.is_some_and(|v| stood_there(v, points, scan));
-        let left = if slid { (0, 0) } else { left_counts(t, now) };
-        // A cluster far from where the track stood may be another one it jumped to, seen
-        // then between what stood in front of it: only the plain test tells its arrival.
-        let visibility = if moved_far {
-            RangeImage::visibility_across
-        } else {
-            RangeImage::visibility_past_occluders
-        };
-        let arrived = then.filter(|_| may_have_arrived).map_or((0, 0), |then| {
-            arrived_counts(then, points, scan, visibility)
-        });
-        for (way, counts) in [("left", left), ("arrived", arrived)] {
-            if start_moving_if_free(t, counts, way, scan, c) {
-                return;
-            }
-        }
-    }
-    if t.probes.is_empty() || age > c.motion_probe_max_age {
-        take_probes(t, points, scan);
-    }
-    // A young track's probes are too fresh to tell anything yet; where it stands now may
-    // have been free space in the scan that long before its birth (a walker who came out
-    // from behind a parked car, a truck that drove into view).
-    let before_birth = (t.hits <= YOUNG_HITS && may_have_arrived && !beside_moving)
-        .then(|| views.before(t.probe_time, c.motion_probe_min_age))
-        .flatten();
-    if let Some(then) = before_birth {
-        // Before its birth nothing of the track says what stood behind what hid it then, and
-        // the plain test is kept: judged past occluders (1 m gap), a person-sized object 20 m
-        // away on KITTI 0000 that no label marks was seen to arrive at its birth (15 false
-        // positives).
-        let counts = arrived_counts(then, points, scan, RangeImage::visibility_across);
-        start_moving_if_free(t, counts, "arrived before its birth", scan, c);
-    }
-}
-
-/// Replaces the probes of track `t` with those of its cluster's `points` in this scan.
-fn take_probes(t: &mut Track, points: &[Point], scan: &ScanContext<'_>) {
-    t.probes.clear();
-    t.probes.extend(probe_points(points, scan));
-    t.probe_time = scan.timestamp;
-}
-
-/// How many of the probes of track `t` the scan `now` sees through and how many it hits:
-/// whether the object has left the place they were taken. What stands well in front of a
-/// probe does not count: a walker coming along the line of sight hides the place they left
-/// from the rows of their own body, and a parked car the rows of their legs.
-fn left_counts(t: &Track, now: &View) -> (usize, usize) {
-    count_views(now, t.probes.iter().copied(), |image, p| {
-        image.visibility_past_occluders(p, LEFT_HALF_WIDTH)
-    })
-}
-
-/// Whether, of the probes a view decides on (`counts`: seen through, hit), at least
-/// [`MIN_DECIDED_PROBES`] and [`STAYED_FRACTION`] of them were hit: something stands there.
-fn mostly_hit((through, hit): (usize, usize)) -> bool {
-    hit >= MIN_DECIDED_PROBES && hit as f64 >= STAYED_FRACTION * (through + hit) as f64
-}
-
-/// Whether `points` reach no farther along x or y than a pedestrian's length.
-fn person_sized(points: &[Point], c: &ClassifyConfig) -> bool {
-    let b = Bounds::of(points);
-    (0..2).all(|k| f64::from(b.max[k] - b.min[k]) <= c.pedestrian_max_length)
-}
-
-/// Whether the earlier view `then` hit the probe points of a cluster's `points` where they
-/// are (in [`STAYED_FRACTION`] of those it decides on): the cluster stood there then.
-fn stood_there(then: &View, points: &[Point], scan: &ScanContext<'_>) -> bool {
-    mostly_hit(count_views(then, probe_points(points, scan), |image, p| {
-        image.visibility_across(p, 0.0)
-    }))
-}
-
-/// How many of the probe points of a cluster's `points` the earlier view `then` saw through
-/// and how many it hit, as `visibility` judges them: whether where the cluster stands now was
-/// free space then.
-fn arrived_counts(
-    then: &View,
-    points: &[Point],
-    scan: &ScanContext<'_>,
-    visibility: fn(&RangeImage, &Vector3<f64>, f64) -> Visibility,
-) -> (usize, usize) {
-    count_views(then, probe_points(points, scan), |image, p| {
-        visibility(image, p, ARRIVAL_HALF_WIDTH)
-    })
-}
-
-/// Judges track `t` moving when at least [`MIN_DECIDED_PROBES`] of its probes were decided
-/// (`counts`: seen through, hit) and `moving_free_fraction` of them were seen through;
-/// `way` says how, for the log. Returns whether it did.
-fn start_moving_if_free(
-    t: &mut Track,
-    (through, hit): (usize, usize),
-    way: &str,
-    scan: &ScanContext<'_>,
-    c: &ClassifyConfig,
-) -> bool {
-    let free = through + hit >= MIN_DECIDED_PROBES
-        && through as f64 >= c.moving_free_fraction * (through + hit) as f64;
-    if free {
-        tracing::trace!(
-            "track {} moves ({way}): seen through {through}, hit {hit}",
-            t.id
-        );
-        t.moving = true;
-        t.still_since = (t.motion.position().xy(), scan.timestamp);
-    }
-    free
-}
-
-/// Whether the cluster centred at `centroid` lies farther than [`FAST_STEP`] from the mean
-/// of the `probes` kept of the track: a vehicle passing at highway speed, or the visible part
-/// of a wall sliding along with the sensor, which the probes' visibility then tells apart.
-fn has_moved_far(probes: &[Vector3<f64>], centroid: &Vector3<f64>) -> bool {
-    if probes.is_empty() {
-        return false;
-    }
-    let then = probes.iter().sum::<Vector3<f64>>() / probes.len() as f64;
-    (centroid - then).xy().norm() > FAST_STEP
-}
-
-/// Up to [`PROBES`] of a cluster's `points`, spread over it, that stand clear of the ground.
-fn probe_points<'p>(
-    points: &'p [Point],
-    scan: &'p ScanContext<'_>,
-) -> impl Iterator<Item = Vector3<f64>> + 'p {
-    let stride = points.len().div_ceil(PROBES * 2).max(1);
-    points
-        .iter()
-        .step_by(stride)
-        .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
-        .filter(|p| scan.ground.height(p) >= PROBE_MIN_HEIGHT)
-        .take(PROBES)
-}
-
-/// How many of the world-frame `points` `view` saw through (free space then) and how many it
-/// hit, as `visibility` judges a sensor-frame point in its image.
-fn count_views(
-    view: &View,
-    points: impl Iterator<Item = Vector3<f64>>,
-    visibility: impl Fn(&RangeImage, &Vector3<f64>) -> Visibility,
-) -> (usize, usize) {
-    let to_sensor = view.pose.inverse();
-    let (mut through, mut hit) = (0, 0);
-    for p in points {
-        match visibility(&view.image, &(to_sensor * Point3::from(p)).coords) {
-            Visibility::SeenThrough => through += 1,
-            Visibility::Hit => hit += 1,
-            Visibility::Hidden | Visibility::Unknown => {}
-        }
-    }
-    (through, hit)
-}
-
 /// Logs what a view of track `t` showed (`TRACKD_LOG=trackd_perception::track=trace`).
 fn trace_view(event: &str, t: &Track, o: &Observation) {
     let p = t.motion.position();
@@ -1134,7 +882,7 @@ fn trace_view(event: &str, t: &Track, o: &Observation) {
         p.x,
         p.y,
         t.hits,
-        t.moving,
+        t.is_moving(),
         t.identity(),
         o.points,
         f.length,
@@ -1153,22 +901,6 @@ fn trace_view(event: &str, t: &Track, o: &Observation) {
 mod tests {
     use super::*;
 
-    /// The face of a post 0.2 m wide, 0.2-1.8 m up, at `x`, `y` (world frame, ground z = 0).
-    fn post(x: f32, y: f32) -> Vec<Point> {
-        let mut out = Vec::new();
-        for row in 0..33 {
-            for i in 0..5 {
-                out.push(Point::new(
-                    x,
-                    y - 0.1 + 0.05 * i as f32,
-                    0.2 + 0.05 * row as f32,
-                    0.0,
-                ));
-            }
-        }
-        out
-    }
-
     /// A scan at `timestamp` by a sensor 1.73 m above the world origin, over `ground`, cut at
     /// 50 m, with no earlier views.
     fn scan_at(timestamp: f64, ground: &Ground) -> ScanContext<'_> {
@@ -1179,44 +911,6 @@ mod tests {
             range_limit: 50.0,
             views: None,
         }
-    }
-
-    /// A view from a sensor 1.73 m above the world origin of the world-frame `points`.
-    fn view(points: &[Point]) -> View {
-        let pose = Isometry3::translation(0.0, 0.0, 1.73);
-        let in_sensor: Vec<Point> = points
-            .iter()
-            .map(|p| Point::new(p.x, p.y, p.z - 1.73, 0.0))
-            .collect();
-        let mut image = RangeImage::default();
-        image.build(&in_sensor);
-        View {
-            timestamp: 0.0,
-            pose,
-            image,
-        }
-    }
-
-    #[test]
-    fn a_post_stood_where_it_stands_a_walker_who_came_there_did_not() {
-        let ground = Ground::horizontal(0.0);
-        let scan = scan_at(0.5, &ground);
-        // A wall 30 m away behind everything.
-        let wall: Vec<Point> = (0..400)
-            .flat_map(|i| {
-                (0..30).map(move |k| Point::new(30.0, -10.0 + 0.05 * i as f32, 0.1 * k as f32, 0.0))
-            })
-            .collect();
-        let here = post(10.0, 0.5);
-        // The earlier view saw the post where it stands now...
-        let with_post = view(&[wall.clone(), here.clone()].concat());
-        assert!(stood_there(&with_post, &here, &scan));
-        // ...or saw through that place to the wall: a walker who has arrived.
-        let without = view(&wall);
-        assert!(!stood_there(&without, &here, &scan));
-        let c = ClassifyConfig::default();
-        assert!(person_sized(&here, &c));
-        assert!(!person_sized(&[here, post(12.0, 0.5)].concat(), &c));
     }
 
     /// A board 1 m wide, 0.1 m apart, `bottom` to `top` metres up, facing the sensor 20 m
