@@ -146,7 +146,7 @@ impl ArrivalPeeler {
     /// whole cluster, when nothing is peeled).
     ///
     /// Clusters a moving vehicle's predicted box (among `boxes`) reaches are left whole, and
-    /// so are groups farther than [`MAX_RANGE`] from the `sensor` (world x, y).
+    /// so are groups farther than `MAX_RANGE` from the `sensor` (world x, y).
     pub fn split(
         &mut self,
         points: &mut [Point],

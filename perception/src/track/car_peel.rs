@@ -1,13 +1,13 @@
 //! Peeling a car off what DBSCAN joined it to. The radius that keeps a distant car in one
 //! piece (0.85 m) also joins a car to a sign post, a tree or another car parked less than a
 //! metre from it: the whole is too wide, too tall or too long for a car, is taken for
-//! structure, and the car with it. Clustered again with a smaller radius ([`FINE_EPS`]), the
+//! structure, and the car with it. Clustered again with a smaller radius (`FINE_EPS`), the
 //! car stands apart: each fine cluster shaped like a car (a car's footprint showing a corner, a
 //! car's height under the field of view's upper edge, standing on the ground) becomes a
 //! cluster of its own, and the rest stays one cluster, as it was. (Close by, the field of view
 //! cuts a van's top: a row of vans bumper to bumper is split only when every part of it is a
 //! van.) Only clusters that are no car themselves, no larger than two cars, and near enough
-//! for the fine radius to keep a car whole ([`MAX_RANGE`]) are looked at.
+//! for the fine radius to keep a car whole (`MAX_RANGE`) are looked at.
 
 use std::ops::Range;
 

@@ -25,6 +25,7 @@ pub mod standing_peel;
 pub mod tracker;
 pub mod views;
 pub mod visibility;
+pub mod votes;
 
 pub use config::{AssociationMode, TrackConfig};
 pub use ground::Ground;

@@ -1,7 +1,7 @@
 //! Peeling people off a cluster. DBSCAN, with the `eps` that keeps a distant car in one
 //! piece, joins two riders side by side 0.3 m apart, or a pedestrian and the parked car beside
 //! them. Their upper bodies still stand apart: seen from above, the points higher than
-//! [`UPPER_BODY`] above the ground fall into separate connected footprints, one per torso
+//! `UPPER_BODY` above the ground fall into separate connected footprints, one per torso
 //! (a car's cabin gives one large footprint). Every other point of the cluster then goes to
 //! the nearest such footprint. When the parts so grown are all whole people (a person-sized
 //! torso, standing on the ground, person-high, person-sized) or posts beside one (a part no

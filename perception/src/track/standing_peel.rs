@@ -1,7 +1,7 @@
 //! Peeling people who stand by a facade off it. DBSCAN joins a person standing half a metre
 //! from a wall, a fence, a hedge or a row of parked cars to it, and the whole is longer than
 //! any car: it would be taken for structure, and the person with it. Seen from above, though,
-//! the person's body stands apart from the wall: the points higher than [`BODY`] above the
+//! the person's body stands apart from the wall: the points higher than `BODY` above the
 //! ground fall into separate connected footprints, the wall's long and the person's small,
 //! since the person hides the wall right behind them. A footprint is peeled off, with the
 //! points below it, when it has a person's size, height and depth, stands on the ground, near

@@ -9,9 +9,7 @@ use rayon::prelude::*;
 use super::assignment::Assigner;
 use super::association::{PairScore, TrackPairs, associate};
 use super::box_fit::{length_heading, place_box};
-use super::classify::{
-    ClassVotes, ClassifyConfig, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape,
-};
+use super::classify::{ClassifyConfig, ShapeFeatures, ShapeVerdict, StructureKind, classify_shape};
 use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
 use super::ground::Ground;
@@ -19,6 +17,7 @@ use super::motion::{MotionModel, wrap_angle};
 use super::movement::{BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS};
 use super::observation::{Observation, Observer};
 use super::views::RecentViews;
+use super::votes::ClassVotes;
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
 
@@ -280,7 +279,7 @@ impl Tracker {
 
     /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
-    /// [`CONFIRMED_HITS`] times.
+    /// `CONFIRMED_HITS` times.
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }

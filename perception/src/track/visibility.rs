@@ -215,7 +215,7 @@ impl RangeImage {
     }
 
     /// As [`Self::visibility_across`], but the cells around `p`'s own that measured more than
-    /// [`OCCLUDER_GAP`] nearer than it are left out: what stands well in front of a point
+    /// `OCCLUDER_GAP` nearer than it are left out: what stands well in front of a point
     /// (a parked car hiding a walker's legs, from the rows below) tells nothing of the space
     /// at the point. Its own cell measuring nearer still hides it.
     pub fn visibility_past_occluders(&self, p: &Vector3<f64>, half_width: f64) -> Visibility {
