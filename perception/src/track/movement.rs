@@ -325,6 +325,7 @@ mod tests {
 
     use super::*;
     use crate::track::Ground;
+    use crate::track::tracker::tests::scan_at;
 
     /// The face of a post 0.2 m wide, 0.2-1.8 m up, at `x`, `y` (world frame, ground z = 0).
     fn post(x: f32, y: f32) -> Vec<Point> {
@@ -340,18 +341,6 @@ mod tests {
             }
         }
         out
-    }
-
-    /// A scan at `timestamp` by a sensor 1.73 m above the world origin, over `ground`, cut at
-    /// 50 m, with no earlier views.
-    fn scan_at(timestamp: f64, ground: &Ground) -> ScanContext<'_> {
-        ScanContext {
-            timestamp,
-            pose: Isometry3::translation(0.0, 0.0, 1.73),
-            ground,
-            range_limit: 50.0,
-            views: None,
-        }
     }
 
     /// A view from a sensor 1.73 m above the world origin of the world-frame `points`.

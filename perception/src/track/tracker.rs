@@ -897,12 +897,12 @@ fn trace_view(event: &str, t: &Track, o: &Observation) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// A scan at `timestamp` by a sensor 1.73 m above the world origin, over `ground`, cut at
     /// 50 m, with no earlier views.
-    fn scan_at(timestamp: f64, ground: &Ground) -> ScanContext<'_> {
+    pub(in crate::track) fn scan_at(timestamp: f64, ground: &Ground) -> ScanContext<'_> {
         ScanContext {
             timestamp,
             pose: Isometry3::translation(0.0, 0.0, 1.73),
