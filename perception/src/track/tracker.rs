@@ -479,11 +479,11 @@ impl Tracker {
         t.person_width = (t.person_width - WIDTH_SINK).max(person_width(o));
         if !o.clipped {
             // A view cut by the range limit shows nothing of what the object is.
-            t.votes.add(
-                verdict_with_person_width(o, t.person_width, config)
-                    .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config)),
-                config.classify.vote_memory,
-            );
+            let verdict = verdict_with_person_width(o, t.person_width, config)
+                .unwrap_or_else(|| verdict_with_car_top(o, t.car_top, config));
+            if !partial_view_of_held_car(t, o, verdict) {
+                t.votes.add(verdict, config.classify.vote_memory);
+            }
             let seen = Sighting {
                 points: cluster.points,
                 centroid: &o.centroid,
@@ -650,6 +650,31 @@ fn verdict_with_car_top(o: &Observation, car_top: f64, config: &TrackConfig) -> 
     };
     let lifted = classify_shape(&shape, &config.classify);
     if is_car(lifted) { lifted } else { o.verdict }
+}
+
+/// Beyond this range (m) a parked car's view often shows its lower body or its roof alone.
+const PARTIAL_CAR_RANGE: f64 = 30.0;
+
+/// A view's top may exceed the remembered car top by this much (m) and still be the car's.
+const CAR_TOP_MARGIN: f64 = 0.1;
+
+/// Whether view `o`, judged `verdict`, is a partial view of the car track `t` holds (see
+/// [`Track::held`]: identified in [`HOLD_MIN_VIEWS`] views) and tells nothing of what it is:
+/// farther than [`PARTIAL_CAR_RANGE`], too low or floating, and no taller than the car was
+/// seen. Such a view takes no vote; counted as structure, a few of them in a row took a far
+/// parked car's identity.
+fn partial_view_of_held_car(t: &Track, o: &Observation, verdict: ShapeVerdict) -> bool {
+    let held_car = t
+        .held
+        .is_some_and(|(class, _, views)| class == ObjectClass::Car && views >= HOLD_MIN_VIEWS);
+    held_car
+        && t.car_top > 0.0
+        && o.shape.range >= PARTIAL_CAR_RANGE
+        && o.shape.top <= t.car_top + CAR_TOP_MARGIN
+        && matches!(
+            verdict,
+            ShapeVerdict::Structure(StructureKind::TooLow | StructureKind::Floating)
+        )
 }
 
 /// How fast (m per scan) the remembered upper-body width of a track narrows towards what is
