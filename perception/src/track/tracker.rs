@@ -660,9 +660,11 @@ const CAR_TOP_MARGIN: f64 = 0.1;
 
 /// Whether view `o`, judged `verdict`, is a partial view of the car track `t` holds (see
 /// [`Track::held`]: identified in [`HOLD_MIN_VIEWS`] views) and tells nothing of what it is:
-/// farther than [`PARTIAL_CAR_RANGE`], too low or floating, and no taller than the car was
-/// seen. Such a view takes no vote; counted as structure, a few of them in a row took a far
-/// parked car's identity.
+/// farther than [`PARTIAL_CAR_RANGE`], no taller than the car was lately seen (`car_top`),
+/// and judged structure for what it lacks (too low, floating: its lower body or its roof
+/// alone) or for its sparse returns (top-heavy, rough as foliage). Such a view takes no vote;
+/// counted as structure, a few of them in a row took a far parked car's identity. A view
+/// larger than the car still votes: what the car is joined to may be all there is.
 fn partial_view_of_held_car(t: &Track, o: &Observation, verdict: ShapeVerdict) -> bool {
     let held_car = t
         .held
@@ -673,7 +675,12 @@ fn partial_view_of_held_car(t: &Track, o: &Observation, verdict: ShapeVerdict) -
         && o.shape.top <= t.car_top + CAR_TOP_MARGIN
         && matches!(
             verdict,
-            ShapeVerdict::Structure(StructureKind::TooLow | StructureKind::Floating)
+            ShapeVerdict::Structure(
+                StructureKind::TooLow
+                    | StructureKind::Floating
+                    | StructureKind::Tree
+                    | StructureKind::Foliage
+            )
         )
 }
 
