@@ -4,8 +4,7 @@
 
 mod drive_support;
 
-use drive_support::scans_reported;
-use trackd_perception::ObjectClass;
+use drive_support::assert_walker_reported_in_most_scans;
 use trackd_sim::{Scenario, SimConfig};
 
 /// Pedestrian 11 of the seed-2 `crowd` drive walks along the wall of a building from scan 75
@@ -19,10 +18,10 @@ const LAST: usize = 95;
 #[test]
 fn a_person_walking_along_a_facade_is_peeled_off_it() {
     let drive = SimConfig::new(Scenario::Crowd, LAST + 1, SEED);
-    let reported = scans_reported(&drive, WALKER, ObjectClass::Pedestrian, 1.0, FIRST..=LAST);
-    let scans = LAST - FIRST + 1;
-    assert!(
-        reported * 10 >= scans * 8,
-        "the walker along the facade was reported in {reported} of {scans} scans"
+    assert_walker_reported_in_most_scans(
+        &drive,
+        WALKER,
+        FIRST..=LAST,
+        "the walker along the facade",
     );
 }

@@ -80,7 +80,8 @@ pub struct FrameOutput {
     /// Pose of the Velodyne frame in the world frame (identity when tracking in the sensor frame).
     pub ego_pose: Isometry3<f64>,
     /// The same pose in the odometry frame the tracker works in (see
-    /// [`PoseEstimator::odometry`](crate::pose::PoseEstimator::odometry)); equal to `ego_pose` unless OXTS drives the pose.
+    /// [`PoseEstimator::odometry`](crate::pose::PoseEstimator::odometry)); equal to `ego_pose`
+    /// unless OXTS drives the pose.
     pub odometry_pose: Isometry3<f64>,
     /// The frame the tracks are expressed in.
     pub tracking_frame: TrackingFrame,

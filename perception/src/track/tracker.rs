@@ -829,9 +829,9 @@ fn update_size(t: &mut Track, o: &Observation, heading: f64, config: &TrackConfi
 /// itself: seen in part, no object is a pole (thin and taller than a person,
 /// `pole_min_height`: a far parked car's track took the post beside it in every scan that
 /// missed the car, and was reported more than 2 m from the car), nor floats above the ground
-/// reaching higher than its class stands (a person no taller than a pole's least height, a car or van
-/// than `whole_van_max_height`; a sign, a canopy or a crown over it; a truck's cab seen over
-/// the cars before it is the truck's).
+/// reaching higher than its class stands (a person no taller than a pole's least height, a car
+/// or van than `whole_van_max_height`; a sign, a canopy or a crown over it; a truck's cab seen
+/// over the cars before it is the truck's).
 fn foreign_view(
     identity: Option<ObjectClass>,
     truck: bool,

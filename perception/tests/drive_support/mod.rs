@@ -70,22 +70,26 @@ pub fn reports(output: &FrameOutput, class: ObjectClass, seen: Seen, within: f64
         .any(|t| t.class == class && (t.center.x - seen.x).hypot(t.center.y - seen.y) < within)
 }
 
-/// In how many of the scans `checked` of the drive `sim` its object `id` (in the ground truth
-/// in each of them) is reported as `class` within `within` metres of where it stands.
-pub fn scans_reported(
+/// Asserts that the drive `sim`'s pedestrian `walker` (in the ground truth in each of the scans
+/// `checked`) is reported as a pedestrian within 1 m of where they walk in at least 80 % of
+/// those scans; `who` names them in the failure message.
+pub fn assert_walker_reported_in_most_scans(
     sim: &SimConfig,
-    id: u32,
-    class: ObjectClass,
-    within: f64,
+    walker: u32,
     checked: RangeInclusive<usize>,
-) -> usize {
+    who: &str,
+) {
     let mut reported = 0;
-    run_drive(sim, checked.end() + 1, id, |index, seen, output| {
+    run_drive(sim, checked.end() + 1, walker, |index, seen, output| {
         if checked.contains(&index) {
-            let seen = seen.expect("the object is in the ground truth");
-            reported += usize::from(reports(output, class, seen, within));
+            let seen = seen.expect("the walker is in the ground truth");
+            reported += usize::from(reports(output, ObjectClass::Pedestrian, seen, 1.0));
         }
         true
     });
-    reported
+    let scans = checked.count();
+    assert!(
+        reported * 10 >= scans * 8,
+        "{who} was reported in {reported} of {scans} scans"
+    );
 }
