@@ -658,18 +658,22 @@ const PARTIAL_CAR_RANGE: f64 = 30.0;
 /// A view's top may exceed the remembered car top by this much (m) and still be the car's.
 const CAR_TOP_MARGIN: f64 = 0.1;
 
-/// Whether view `o`, judged `verdict`, is a partial view of the car track `t` holds (see
-/// [`Track::held`]: identified in [`HOLD_MIN_VIEWS`] views) and tells nothing of what it is:
-/// farther than [`PARTIAL_CAR_RANGE`], no taller than the car was lately seen (`car_top`),
-/// and judged structure for what it lacks (too low, floating: its lower body or its roof
-/// alone) or for its sparse returns (top-heavy, rough as foliage). Such a view takes no vote;
-/// counted as structure, a few of them in a row took a far parked car's identity. A view
-/// larger than the car still votes: what the car is joined to may be all there is.
+/// Whether view `o`, judged `verdict`, is a partial view of a parked car that tells nothing of
+/// what it is: `t` is a static track held as a car (see [`Track::held`]: identified in
+/// [`HOLD_MIN_VIEWS`] views), and the view lies farther than [`PARTIAL_CAR_RANGE`], is no
+/// taller than the car was lately seen (`car_top`), and is judged structure for what it lacks
+/// (too low, floating: its lower body or its roof alone) or for its sparse returns (top-heavy,
+/// rough as foliage). Such a view takes no vote; counted as structure, a few of them in a row
+/// took a far parked car's identity. A view larger than the car still votes: what the car is
+/// joined to may be all there is. A moving track holds no identity (see [`Track::identity`]):
+/// every view votes, or a car's track that moved on to a bush by the road would report the
+/// bush as the car.
 fn partial_view_of_held_car(t: &Track, o: &Observation, verdict: ShapeVerdict) -> bool {
     let held_car = t
         .held
         .is_some_and(|(class, _, views)| class == ObjectClass::Car && views >= HOLD_MIN_VIEWS);
     held_car
+        && !t.is_moving()
         && t.car_top > 0.0
         && o.shape.range >= PARTIAL_CAR_RANGE
         && o.shape.top <= t.car_top + CAR_TOP_MARGIN
