@@ -6,7 +6,8 @@
 //! the view near the sensor is seen moving, and judged afresh once it has stood still; a post
 //! that came into view looks arrived, and is judged static once the scan still hits it; and a
 //! walker identified only while it moved is not held as a person once it stands still; and a
-//! far car's track that moved on to a bush by the road does not report the bush as the car.
+//! far car's track that moved on to a bush by the road does not report the bush as the car; a
+//! parked car's box does not slide past the car when more of its side comes into view.
 
 mod track_support;
 mod view_support;
@@ -301,4 +302,75 @@ fn a_far_moving_cars_track_that_took_a_bush_does_not_report_it() {
     );
     assert_eq!(out[9].len(), 1, "the car itself");
     assert!(out[20..].iter().all(Vec::is_empty), "{:?}", &out[20..]);
+}
+
+/// The side of a 4.5 m car parked 15 m ahead, facing the sensor (x = 15 m, y from -2.25 to
+/// 2.25 m), 0.2 m to 1.5 m above the ground, every 0.1 m (world frame).
+fn parked_car_side() -> Vec<Point> {
+    let mut out = Vec::new();
+    for row in 0..14 {
+        let z = (0.2 + 0.1 * f64::from(row)) as f32;
+        for i in 0..=45 {
+            out.push(Point::new(
+                15.0,
+                (-2.25 + 0.1 * f64::from(i)) as f32,
+                z,
+                0.0,
+            ));
+        }
+    }
+    out
+}
+
+/// A board 10 m ahead, 1.8 m tall, from y = -0.3 to 1.5 m: it hides all but the last 1.8 m
+/// of the parked car's side.
+fn board() -> Vec<Point> {
+    let mut out = Vec::new();
+    for row in 0..=18 {
+        let z = (0.1 * f64::from(row)) as f32;
+        for i in 0..=18 {
+            out.push(Point::new(10.0, (-0.3 + 0.1 * f64::from(i)) as f32, z, 0.0));
+        }
+    }
+    out
+}
+
+#[test]
+fn a_parked_cars_box_does_not_overshoot_as_more_of_it_comes_into_view() {
+    // For 1.2 s a board hides all but the last 1.8 m of the parked car's side, then the whole
+    // side shows: the box centre jumps 1.35 m along the side. The car, identified and not
+    // seen moving, is parked: its filter carries no velocity from the jump, so the box
+    // settles on the car's centre (y = 0) without sliding past it.
+    let uncovered = 1.2;
+    let out = run_bodies(
+        30,
+        |t| {
+            if t < uncovered {
+                let side = parked_car_side();
+                vec![side.into_iter().filter(|p| p.y < -0.45).collect(), board()]
+            } else {
+                vec![parked_car_side()]
+            }
+        },
+        |_| Vector2::zeros(),
+        |_| 0.0,
+    );
+    let along_side: Vec<f64> = out
+        .iter()
+        .filter_map(|reported| {
+            let nearest = reported
+                .iter()
+                .min_by(|a, b| (a.x - 15.9).abs().total_cmp(&(b.x - 15.9).abs()))?;
+            Some(nearest.y)
+        })
+        .collect();
+    assert_eq!(
+        along_side.len(),
+        30,
+        "reported in every scan: {along_side:.2?}"
+    );
+    assert!(
+        along_side[12..].iter().all(|&y| y < 0.1),
+        "box centre along the side (m) per scan: {along_side:.2?}"
+    );
 }

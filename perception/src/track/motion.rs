@@ -167,6 +167,12 @@ impl MotionModel {
         m
     }
 
+    /// Sets the velocity to zero: the object stands still.
+    pub fn stop(&mut self) {
+        self.x[3] = 0.0;
+        self.x[4] = 0.0;
+    }
+
     /// Moves the state `dt` seconds ahead.
     pub fn predict(&mut self, dt: f64, noise: &ProcessNoise) {
         let dt = dt.max(0.0);

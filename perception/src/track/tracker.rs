@@ -181,6 +181,19 @@ impl Track {
         (views >= HOLD_MIN_VIEWS && near && self.votes.may_hold(class)).then_some(class)
     }
 
+    /// Whether the track is parked: held as an object (identified in [`HOLD_MIN_VIEWS`]
+    /// views), seen in [`PARKED_MIN_HITS`] scans and not found moving. Its box stays where
+    /// its views put it: the velocity its filter reads off views that show more or less of it
+    /// (a parked car's side coming into view as the sensor passes) is no motion, and carried
+    /// on, it slid a parked car's box off the car. (Only where the scans' free space tells
+    /// whether a track moves: tracked in the sensor frame, parked cars move with the scene.)
+    fn is_parked(&self) -> bool {
+        let held = self
+            .held
+            .is_some_and(|(_, _, views)| views >= HOLD_MIN_VIEWS);
+        held && self.hits >= PARKED_MIN_HITS && !self.is_moving()
+    }
+
     /// Judges whether the track, just matched to `seen`, moves (see [`Movement::judge`]).
     fn judge_motion(&mut self, seen: &Sighting<'_>, scan: &ScanContext<'_>, c: &ClassifyConfig) {
         let track = Subject {
@@ -322,6 +335,9 @@ impl Tracker {
         self.time = Some(scan.timestamp);
         let process = self.config.motion.process_noise();
         for t in &mut self.tracks {
+            if scan.views.is_some() && t.is_parked() {
+                t.motion.stop();
+            }
             t.motion.predict(dt, &process);
             t.age += 1;
             t.cluster = None;
@@ -613,6 +629,10 @@ const HOLD_RADIUS: f64 = 1.0;
 
 /// Views a static track's votes must have identified it in before it holds the identity.
 const HOLD_MIN_VIEWS: u32 = 5;
+
+/// Scans a track held as an object must have been seen in, and not found moving, to be
+/// parked (see [`Track::is_parked`]): by then a moving one has shown its motion.
+const PARKED_MIN_HITS: u32 = 10;
 
 /// How fast (m per scan) the remembered top of a track sinks towards what is seen now.
 const TOP_SINK: f64 = 0.02;
