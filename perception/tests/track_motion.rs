@@ -307,19 +307,10 @@ fn a_far_moving_cars_track_that_took_a_bush_does_not_report_it() {
 /// The side of a 4.5 m car parked 15 m ahead, facing the sensor (x = 15 m, y from -2.25 to
 /// 2.25 m), 0.2 m to 1.5 m above the ground, every 0.1 m (world frame).
 fn parked_car_side() -> Vec<Point> {
-    let mut out = Vec::new();
-    for row in 0..14 {
-        let z = (0.2 + 0.1 * f64::from(row)) as f32;
-        for i in 0..=45 {
-            out.push(Point::new(
-                15.0,
-                (-2.25 + 0.1 * f64::from(i)) as f32,
-                z,
-                0.0,
-            ));
-        }
-    }
-    out
+    car_side_and_rear(15.0, -2.25)
+        .into_iter()
+        .filter(|p| p.x == 15.0)
+        .collect()
 }
 
 /// A board 10 m ahead, 1.8 m tall, from y = -0.3 to 1.5 m: it hides all but the last 1.8 m

@@ -22,12 +22,11 @@ use crate::Point;
 use crate::cluster::{ClusterConfig, Clustering, Dbscan};
 
 /// The radius (m) of the second clustering: cars 40 m away keep their rings (a third of a
-/// degree, 0.23 m apart there) and their roofs over the windows together, a post or a car
-/// 0.6 m away falls apart from them.
+/// degree, 0.23 m apart there) together, a post or a car 0.6 m away falls apart from them.
 const FINE_EPS: f64 = 0.6;
 /// Clusters farther than this (m) are left whole: the fine radius breaks cars apart there.
 /// (30 m left a van joined to the post behind it at 30-40 m unidentified: over 48 simulated
-/// drives, 40 m gave 0.06-0.08 % more MOTA per set of drives.)
+/// drives, 40 m gave 0.06-0.08 points more MOTA per set of drives.)
 const MAX_RANGE: f64 = 40.0;
 /// Clusters with a longer footprint (m) are left whole: two cars bumper to bumper reach 13 m.
 const MAX_CLUSTER_LENGTH: f64 = 14.0;

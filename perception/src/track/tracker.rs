@@ -188,10 +188,15 @@ impl Track {
     /// on, it slid a parked car's box off the car. (Only where the scans' free space tells
     /// whether a track moves: tracked in the sensor frame, parked cars move with the scene.)
     fn is_parked(&self) -> bool {
-        let held = self
-            .held
-            .is_some_and(|(_, _, views)| views >= HOLD_MIN_VIEWS);
-        held && self.hits >= PARKED_MIN_HITS && !self.is_moving()
+        self.held_class().is_some() && self.hits >= PARKED_MIN_HITS && !self.is_moving()
+    }
+
+    /// The class the track's votes have identified it as in at least [`HOLD_MIN_VIEWS`]
+    /// views in a row, if any (see [`Self::held`]).
+    fn held_class(&self) -> Option<ObjectClass> {
+        self.held
+            .filter(|&(_, _, views)| views >= HOLD_MIN_VIEWS)
+            .map(|(class, _, _)| class)
     }
 
     /// Judges whether the track, just matched to `seen`, moves (see [`Movement::judge`]).
@@ -689,10 +694,7 @@ const CAR_TOP_MARGIN: f64 = 0.1;
 /// every view votes, or a car's track that moved on to a bush by the road would report the
 /// bush as the car.
 fn partial_view_of_held_car(t: &Track, o: &Observation, verdict: ShapeVerdict) -> bool {
-    let held_car = t
-        .held
-        .is_some_and(|(class, _, views)| class == ObjectClass::Car && views >= HOLD_MIN_VIEWS);
-    held_car
+    t.held_class() == Some(ObjectClass::Car)
         && !t.is_moving()
         && t.car_top > 0.0
         && o.shape.range >= PARTIAL_CAR_RANGE
