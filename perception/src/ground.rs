@@ -10,7 +10,9 @@
 //!    plane of the zone just inside it, along the same azimuth); the fit is refined by least
 //!    squares (PCA) on its inliers and kept only if it is upright relative to the prior
 //!    (`max_bend_deg`), does not step up or down more than `max_step` and has
-//!    `min_zone_points` inliers; otherwise the zone inherits its prior;
+//!    `min_zone_points` inliers; otherwise the zone inherits its prior, or, when no point lies
+//!    near the prior at all, a plane at the near plane's slope meeting the prior at the
+//!    zone's inner edge (with nothing to tell a zone's slope, a slope is not carried on);
 //! 3. a point is ground when it lies at most `distance_threshold + threshold_growth · range`
 //!    above its zone's plane (everything below it is ground too: reflections, kerb drops),
 //!    unless its (x, y) column also holds points 0.25-0.6 m up: then it is the base of an
@@ -498,9 +500,21 @@ impl GroundRemoval {
                         self.candidates.push(p);
                     }
                 }
-                let plane = self
-                    .fit(&prior, self.config.max_bend_deg, check, zone as u64)
-                    .unwrap_or(prior);
+                let plane = match self.fit(&prior, self.config.max_bend_deg, check, zone as u64) {
+                    Some(plane) => plane,
+                    // No point near the prior at all: nothing tells this zone's slope, so the
+                    // ground goes on from the inner edge at the near plane's. Carried on, a
+                    // prior tilted by a bank or a kerb climbed metres within a few rings and
+                    // took every object behind it for ground.
+                    None if self.candidates.is_empty() => match check {
+                        StepCheck::At(xy) => {
+                            Plane::through([xy[0], xy[1], prior.z_at(xy)], near.normal)
+                                .unwrap_or(prior)
+                        }
+                        _ => prior,
+                    },
+                    None => prior,
+                };
                 self.zone_plane.push(plane);
             }
         }
@@ -849,6 +863,43 @@ mod tests {
         let (points, truth) =
             scene(|x, y| -1.73 + 0.03 * x + 0.02 * y + 0.06 * (x - 20.0).max(0.0));
         check(&points, &truth);
+    }
+
+    #[test]
+    fn a_slope_is_not_carried_on_over_zones_without_ground() {
+        // Flat road, but to the left a bank rises 8° from y = 11 m to y = 19 m onto a level
+        // that returns nothing, with a car on it 35 m away: its body 0.6-1.5 m up.
+        let bank = |y: f32| -1.73 + (y.clamp(11.0, 19.0) - 11.0) * 8f32.to_radians().tan();
+        let mut points = Vec::new();
+        let mut truth = Vec::new();
+        for ring in 0..60 {
+            let r = 3.0 + ring as f32 * ring as f32 * 0.013 + ring as f32 * 0.2;
+            for step in 0..720 {
+                let a = step as f32 * std::f32::consts::TAU / 720.0;
+                let (x, y) = (r * a.cos(), r * a.sin());
+                if y < 19.0 {
+                    points.push(Point::new(x, y, bank(y), 0.0));
+                    truth.push(true);
+                }
+            }
+        }
+        let car = points.len();
+        for i in 0..40 {
+            for j in 0..4 {
+                let z = bank(19.0) + 0.6 + j as f32 * 0.3;
+                points.push(Point::new(-2.0 + i as f32 * 0.1, 34.0, z, 0.0));
+                truth.push(false);
+            }
+        }
+        let mut ground = Vec::new();
+        GroundRemoval::default().segment(&points, &mut ground);
+        let lost = ground[car..].iter().filter(|&&g| g).count();
+        assert_eq!(lost, 0, "{lost} of the car's 160 points taken for ground");
+        // The bank itself is ground where it is seen straight on.
+        let bank_missed = (0..car)
+            .filter(|&i| points[i].y > 12.0 && points[i].x.abs() < 3.0 && !ground[i])
+            .count();
+        assert_eq!(bank_missed, 0);
     }
 
     #[test]
