@@ -114,7 +114,23 @@ fn run_within(
     visible: impl Fn(usize, usize) -> bool,
     range_limit: f64,
 ) -> Vec<Reported> {
-    let mut tracker = Tracker::new(config);
+    drive(
+        &mut Tracker::new(config),
+        bodies,
+        scans,
+        visible,
+        range_limit,
+    )
+}
+
+/// Feeds `tracker` the scans of [`run_within`].
+fn drive(
+    tracker: &mut Tracker,
+    bodies: &[Body],
+    scans: usize,
+    visible: impl Fn(usize, usize) -> bool,
+    range_limit: f64,
+) -> Vec<Reported> {
     let cdf = FLAT.cdf();
     let ground = Ground::horizontal(0.0);
     let mut out = Vec::new();
@@ -471,4 +487,25 @@ fn a_pedestrian_track_does_not_grow_into_the_wall_it_walks_along() {
             );
         }
     }
+}
+
+#[test]
+fn a_second_track_on_a_car_claims_none_of_it() {
+    // A car track that comes within 0.6 m of a parked car's (a car seen in two pieces for a
+    // while leaves two tracks on it): only the parked car's, matched as often and older,
+    // guides the splitting of the cluster there.
+    let parked = car((20.0, 5.0), (0.0, 0.0));
+    let second = car((15.0, 5.0), (1.0, 0.0));
+    let mut tracker = Tracker::new(TrackConfig::default());
+    let out = drive(&mut tracker, &[parked, second], 57, |_, _| true, 50.0);
+    let parked_id = near(&out[2], parked.start).unwrap().0;
+    let last = out.last().unwrap();
+    assert_eq!(last.len(), 2, "{last:?}");
+    let boxes: Vec<u64> = tracker.predicted_boxes(5.7).map(|b| b.id).collect();
+    assert_eq!(boxes, vec![parked_id], "{last:?}");
+    // Two cars parked side by side, 1.9 m apart, each keep their box.
+    let beside = car((20.0, 6.9), (0.0, 0.0));
+    let mut tracker = Tracker::new(TrackConfig::default());
+    drive(&mut tracker, &[parked, beside], 8, |_, _| true, 50.0);
+    assert_eq!(tracker.predicted_boxes(0.8).count(), 2);
 }

@@ -307,12 +307,14 @@ impl Tracker {
         self.config.birth_hits.max(CONFIRMED_HITS)
     }
 
-    /// The boxes the confirmed tracks are predicted to occupy at `timestamp`.
+    /// The boxes the confirmed tracks are predicted to occupy at `timestamp`, but a second
+    /// track on the same car's (see [`Self::is_second_on_a_car`]).
     pub fn predicted_boxes(&self, timestamp: f64) -> impl Iterator<Item = PredictedBox> + '_ {
         let dt = self.time.map_or(0.0, |t| (timestamp - t).max(0.0));
         self.tracks
             .iter()
             .filter(|t| t.hits >= self.confirmed_hits())
+            .filter(|t| !self.is_second_on_a_car(t))
             .filter_map(move |t| {
                 let class = t.identity()?;
                 let moving_person = t.is_moving()
@@ -331,6 +333,22 @@ impl Tracker {
                     moving_vehicle: t.is_moving() && class == ObjectClass::Car,
                     moving_person,
                 })
+            })
+    }
+
+    /// Whether car track `t` lies within [`SAME_CAR_DISTANCE`] of a confirmed car track
+    /// matched more often (or as often, and older): a second track on the same car. Its box
+    /// claims none of the car's points, or splitting would share the car out between the two
+    /// and keep both alive, one of them a false positive in every scan; unmatched, it fades.
+    fn is_second_on_a_car(&self, t: &Track) -> bool {
+        let car = Some(ObjectClass::Car);
+        t.identity() == car
+            && self.tracks.iter().any(|u| {
+                u.id != t.id
+                    && u.hits >= self.confirmed_hits()
+                    && u.identity() == car
+                    && (u.hits, std::cmp::Reverse(u.id)) > (t.hits, std::cmp::Reverse(t.id))
+                    && (u.motion.position() - t.motion.position()).xy().norm() < SAME_CAR_DISTANCE
             })
     }
 
@@ -627,6 +645,10 @@ impl Tracker {
 /// Matches before a track coasts through misses and guides the splitting of clusters: a
 /// track seen once may be a fragment, reported only in the scan that showed it.
 const CONFIRMED_HITS: u32 = 2;
+
+/// Car tracks whose centres are closer than this (m) are on the same car: two cars side by
+/// side stand a car's width (1.6 m or more) apart.
+const SAME_CAR_DISTANCE: f64 = 1.0;
 
 /// How far (m) a static track may drift from where its views last identified it and keep
 /// that identity.
