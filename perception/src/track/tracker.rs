@@ -308,7 +308,8 @@ impl Tracker {
     }
 
     /// The boxes the confirmed tracks are predicted to occupy at `timestamp`, but a second
-    /// track on the same car's (see [`Self::is_second_on_a_car`]).
+    /// track's on the same car: of two car tracks less than 1 m apart, only the one matched
+    /// more often (or as often, and older) predicts a box.
     pub fn predicted_boxes(&self, timestamp: f64) -> impl Iterator<Item = PredictedBox> + '_ {
         let dt = self.time.map_or(0.0, |t| (timestamp - t).max(0.0));
         self.tracks
