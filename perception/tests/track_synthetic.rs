@@ -509,3 +509,28 @@ fn a_second_track_on_a_car_claims_none_of_it() {
     drive(&mut tracker, &[parked, beside], 8, |_, _| true, 50.0);
     assert_eq!(tracker.predicted_boxes(0.8).count(), 2);
 }
+
+#[test]
+fn a_parked_cars_heading_outlasts_a_few_views_that_read_it_crosswise() {
+    // A car parked along x, seen as it is for 12 scans, then for 5 as if it stood across
+    // (its outline 4.4 m along y): a parked track keeps its heading through them.
+    let parked = car((20.0, 5.0), (0.0, 0.0));
+    let mut crosswise = parked;
+    crosswise.size = Vector3::new(1.8, 4.4, 1.5);
+    let heading_after = |scans| {
+        let mut tracker = Tracker::new(TrackConfig::default());
+        let seen = |k: usize, i: usize| (i == 1) == (k >= 12);
+        drive(&mut tracker, &[parked, crosswise], scans, seen, 50.0);
+        let reported: Vec<_> = tracker.reported().map(|t| t.state()).collect();
+        assert_eq!(reported.len(), 1, "{reported:?}");
+        let yaw = reported[0].yaw.rem_euclid(std::f64::consts::PI);
+        yaw.min(std::f64::consts::PI - yaw)
+    };
+    assert!(heading_after(17) < 0.1, "{}", heading_after(17));
+    // Seen crosswise for longer, it is taken as a wrong start.
+    let turned = heading_after(24);
+    assert!(
+        (turned - std::f64::consts::FRAC_PI_2).abs() < 0.1,
+        "{turned}"
+    );
+}

@@ -26,6 +26,10 @@ use crate::{ObjectClass, Point, TrackState};
 const MAX_HEADING_STEP: f64 = std::f64::consts::FRAC_PI_4;
 /// Consecutive flipped views after which the track takes the view's heading.
 const HEADING_RESET_VIEWS: u32 = 3;
+/// The same for a parked track: its heading was fitted to many views, and as the sensor
+/// passes the car or draws away its views turn ambiguous (a far car's back and the first
+/// metre of its side read either way), so a few flipped ones are no wrong start.
+const PARKED_HEADING_RESET_VIEWS: u32 = 8;
 /// Weight of a larger view in the smoothed size.
 const SIZE_GROW_RATE: f64 = 0.5;
 /// An unmatched cluster whose centre lies this close (m) to a track's box is a fragment of
@@ -498,7 +502,12 @@ impl Tracker {
             } else {
                 // Probably the box fit flipping axes; several views in a row: a wrong start.
                 t.heading_flips += 1;
-                if t.heading_flips >= HEADING_RESET_VIEWS {
+                let reset = if t.is_parked() {
+                    PARKED_HEADING_RESET_VIEWS
+                } else {
+                    HEADING_RESET_VIEWS
+                };
+                if t.heading_flips >= reset {
                     t.heading_flips = 0;
                     t.motion.set_heading(view);
                 }
