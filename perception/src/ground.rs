@@ -802,24 +802,31 @@ impl SplitMix64 {
 mod tests {
     use super::*;
 
+    /// The (ring, step, x, y) of a ring-like scan's returns on the ground: 60 rings from 3 m
+    /// out, spreading with range, 720 steps a ring.
+    fn rings() -> impl Iterator<Item = (usize, usize, f32, f32)> {
+        (0..60).flat_map(|ring| {
+            let r = 3.0 + ring as f32 * ring as f32 * 0.013 + ring as f32 * 0.2;
+            (0..720).map(move |step| {
+                let a = step as f32 * std::f32::consts::TAU / 720.0;
+                (ring, step, r * a.cos(), r * a.sin())
+            })
+        })
+    }
+
     /// A ring-like scan of a ground `z = f(x, y)` plus a box-shaped obstacle from 0.3 m to
     /// 1.5 m above the ground at (12, 4) hiding the ground below it, as (points, is ground).
     fn scene(ground: impl Fn(f32, f32) -> f32) -> (Vec<Point>, Vec<bool>) {
         let mut points = Vec::new();
         let mut truth = Vec::new();
-        for ring in 0..60 {
-            let r = 3.0 + ring as f32 * ring as f32 * 0.013 + ring as f32 * 0.2;
-            for step in 0..720 {
-                let a = step as f32 * std::f32::consts::TAU / 720.0;
-                let (x, y) = (r * a.cos(), r * a.sin());
-                if (10.8..13.3).contains(&x) && (2.8..4.8).contains(&y) {
-                    continue;
-                }
-                // A little deterministic noise, ±2 cm.
-                let noise = ((step * 7 + ring * 13) % 9) as f32 * 0.005 - 0.02;
-                points.push(Point::new(x, y, ground(x, y) + noise, 0.0));
-                truth.push(true);
+        for (ring, step, x, y) in rings() {
+            if (10.8..13.3).contains(&x) && (2.8..4.8).contains(&y) {
+                continue;
             }
+            // A little deterministic noise, ±2 cm.
+            let noise = ((step * 7 + ring * 13) % 9) as f32 * 0.005 - 0.02;
+            points.push(Point::new(x, y, ground(x, y) + noise, 0.0));
+            truth.push(true);
         }
         for i in 0..30 {
             for j in 0..25 {
@@ -870,25 +877,15 @@ mod tests {
         // Flat road, but to the left a bank rises 8° from y = 11 m to y = 19 m onto a level
         // that returns nothing, with a car on it 35 m away: its body 0.6-1.5 m up.
         let bank = |y: f32| -1.73 + (y.clamp(11.0, 19.0) - 11.0) * 8f32.to_radians().tan();
-        let mut points = Vec::new();
-        let mut truth = Vec::new();
-        for ring in 0..60 {
-            let r = 3.0 + ring as f32 * ring as f32 * 0.013 + ring as f32 * 0.2;
-            for step in 0..720 {
-                let a = step as f32 * std::f32::consts::TAU / 720.0;
-                let (x, y) = (r * a.cos(), r * a.sin());
-                if y < 19.0 {
-                    points.push(Point::new(x, y, bank(y), 0.0));
-                    truth.push(true);
-                }
-            }
-        }
+        let mut points: Vec<Point> = rings()
+            .filter(|&(_, _, _, y)| y < 19.0)
+            .map(|(_, _, x, y)| Point::new(x, y, bank(y), 0.0))
+            .collect();
         let car = points.len();
         for i in 0..40 {
             for j in 0..4 {
                 let z = bank(19.0) + 0.6 + j as f32 * 0.3;
                 points.push(Point::new(-2.0 + i as f32 * 0.1, 34.0, z, 0.0));
-                truth.push(false);
             }
         }
         let mut ground = Vec::new();
