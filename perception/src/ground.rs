@@ -500,20 +500,17 @@ impl GroundRemoval {
                         self.candidates.push(p);
                     }
                 }
-                let plane = match self.fit(&prior, self.config.max_bend_deg, check, zone as u64) {
-                    Some(plane) => plane,
+                let fitted = self.fit(&prior, self.config.max_bend_deg, check, zone as u64);
+                let plane = match (fitted, check) {
+                    (Some(plane), _) => plane,
                     // No point near the prior at all: nothing tells this zone's slope, so the
                     // ground goes on from the inner edge at the near plane's. Carried on, a
                     // prior tilted by a bank or a kerb climbed metres within a few rings and
                     // took every object behind it for ground.
-                    None if self.candidates.is_empty() => match check {
-                        StepCheck::At(xy) => {
-                            Plane::through([xy[0], xy[1], prior.z_at(xy)], near.normal)
-                                .unwrap_or(prior)
-                        }
-                        _ => prior,
-                    },
-                    None => prior,
+                    (None, StepCheck::At(xy)) if self.candidates.is_empty() => {
+                        Plane::through([xy[0], xy[1], prior.z_at(xy)], near.normal).unwrap_or(prior)
+                    }
+                    (None, _) => prior,
                 };
                 self.zone_plane.push(plane);
             }

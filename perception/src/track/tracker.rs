@@ -26,9 +26,9 @@ use crate::{ObjectClass, Point, TrackState};
 const MAX_HEADING_STEP: f64 = std::f64::consts::FRAC_PI_4;
 /// Consecutive flipped views after which the track takes the view's heading.
 const HEADING_RESET_VIEWS: u32 = 3;
-/// The same for a parked track: its heading was fitted to many views, and as the sensor
-/// passes the car or draws away its views turn ambiguous (a far car's back and the first
-/// metre of its side read either way), so a few flipped ones are no wrong start.
+/// The same for a parked track: its heading was fitted to many views, and a few that read
+/// it crosswise (a far car's back and the first metre of its side read either way, see
+/// [`length_heading`]) are no wrong start.
 const PARKED_HEADING_RESET_VIEWS: u32 = 8;
 /// Weight of a larger view in the smoothed size.
 const SIZE_GROW_RATE: f64 = 0.5;
@@ -186,11 +186,9 @@ impl Track {
     }
 
     /// Whether the track is parked: held as an object (identified in [`HOLD_MIN_VIEWS`]
-    /// views), seen in [`PARKED_MIN_HITS`] scans and not found moving. Its box stays where
-    /// its views put it: the velocity its filter reads off views that show more or less of it
-    /// (a parked car's side coming into view as the sensor passes) is no motion, and carried
-    /// on, it slid a parked car's box off the car. (Only where the scans' free space tells
-    /// whether a track moves: tracked in the sensor frame, parked cars move with the scene.)
+    /// views), seen in [`PARKED_MIN_HITS`] scans and not found moving. A parked track takes a
+    /// flipped heading only after [`PARKED_HEADING_RESET_VIEWS`] views, and in the world frame
+    /// it is predicted without velocity (see [`Tracker::step`]).
     fn is_parked(&self) -> bool {
         self.held_class().is_some() && self.hits >= PARKED_MIN_HITS && !self.is_moving()
     }
@@ -363,6 +361,11 @@ impl Tracker {
         self.time = Some(scan.timestamp);
         let process = self.config.motion.process_noise();
         for t in &mut self.tracks {
+            // A parked track's box stays where its views put it: the velocity its filter reads
+            // off views that show more or less of it (a parked car's side coming into view as
+            // the sensor passes) is no motion, and carried on, it slid a parked car's box off
+            // the car. Only where the scans' free space tells whether a track moves: tracked in
+            // the sensor frame, parked cars move with the scene.
             if scan.views.is_some() && t.is_parked() {
                 t.motion.stop();
             }
