@@ -136,7 +136,7 @@ fn a_truck_seen_whole_stays_a_truck_when_its_top_no_longer_shows() {
 fn a_car_stays_a_car_after_one_view_with_a_thin_top_cut_by_the_field_of_view() {
     // A car driving away, seen from behind, 4.5 m long; in one scan a thin post behind it
     // joins its cluster, up to where the highest beam passes. A truck's cut view is a box as
-    // wide at the top as below; taken for a truck, the car's centre would move 2.25 m off.
+    // wide at the top as below; taken for a truck, the car's centre would move metres off.
     let car_length = 4.5;
     let center = |t: f64| 30.0 + car_length / 2.0 + 8.0 * t;
     let seen = |t: f64| {

@@ -274,6 +274,14 @@ pub struct ShapeFeatures {
     pub lower_hidden: bool,
 }
 
+impl ShapeFeatures {
+    /// Whether the view is box-shaped: its upper third spans at least [`BOX_MIN_UPPER_RATIO`]
+    /// of its lower third's extent, as a van's or a truck's body does.
+    pub(crate) fn is_box_shaped(&self) -> bool {
+        self.upper_width >= BOX_MIN_UPPER_RATIO * self.lower_width
+    }
+}
+
 /// Why a view is static structure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StructureKind {
@@ -327,12 +335,15 @@ fn car_min_upper_ratio(f: &ShapeFeatures, c: &ClassifyConfig) -> f64 {
     }
 }
 
-/// The least fraction of its lower third's extent the upper third of a van taller than
-/// [`ClassifyConfig::car_max_height`] spans: its box slopes only at the windscreen (the
-/// car-like views of that height on two simulated drives all measure 0.7 or more; two
+/// The least fraction of its lower third's extent the upper third of a box-shaped view
+/// spans. A van taller than [`ClassifyConfig::car_max_height`] slopes only at the windscreen
+/// (the car-like views of that height on two simulated drives all measure 0.7 or more; two
 /// one-scan views 2.32-2.33 m tall on KITTI 0000 and `kitti-raw-22`, outside the labelled
-/// view, 0.44 and 0.6).
-const WHOLE_VAN_MIN_UPPER_RATIO: f64 = 0.7;
+/// view, 0.44 and 0.6). A truck's rear or cab is as wide at the top as below; a car with a
+/// few stray points above it in its cluster is not (on `highway` seed 9 one such view, 0.11,
+/// cut by the field of view, made a car 46 m behind a truck and put its centre 2.2 m off for
+/// 49 scans).
+const BOX_MIN_UPPER_RATIO: f64 = 0.7;
 
 /// Least shorter side (m) of a view cut by the field of view that may be a van as tall as
 /// [`ClassifyConfig::whole_van_max_height`]: a box seen on two faces.
@@ -417,7 +428,7 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     // `top` bounds the height from below either way. A cut view that widens upwards is a
     // crown over its trunk as often as a car: a van's box is no wider at the top.
     let cut_crown = f.truncated && f.upper_width > TRUNCATED_CROWN_SPREAD * f.lower_width;
-    let box_shaped = f.upper_width >= WHOLE_VAN_MIN_UPPER_RATIO * f.lower_width;
+    let box_shaped = f.is_box_shaped();
     let whole_box = !f.truncated && box_shaped;
     let cut_box = f.truncated
         && box_shaped

@@ -859,21 +859,14 @@ fn size_class(t: &Track, o: &Observation) -> Option<ObjectClass> {
 /// and cars are lower.
 const TRUNCATED_TRUCK_TOP: f64 = 2.7;
 
-/// The least fraction of its lower third's extent the upper third of a cut view spans for
-/// the view to be a truck's: a truck's rear or cab is a box as wide at the top as below, a
-/// car with a few stray points above it in its cluster is not (on `highway` seed 9 one such view,
-/// 0.11, made a car 46 m behind a truck and put its centre 2.2 m off for 49 scans).
-const CUT_TRUCK_MIN_UPPER_RATIO: f64 = 0.7;
-
 /// Whether moving car-class track `t` is a truck or a bus: its smoothed height reaches
 /// `truck_min_height`, or view `o` is cut by the top of the field of view no lower than
 /// [`TRUNCATED_TRUCK_TOP`] (30 m away the field of view ends 2.8 m above the ground, so a
 /// truck seen there never shows its height) and is box-shaped
-/// ([`CUT_TRUCK_MIN_UPPER_RATIO`]).
+/// ([`ShapeFeatures::is_box_shaped`]).
 fn is_truck(t: &Track, o: &Observation, c: &ClassifyConfig) -> bool {
     let cut_high = o.shape.truncated && o.shape.top >= TRUNCATED_TRUCK_TOP;
-    let box_shaped = o.shape.upper_width >= CUT_TRUCK_MIN_UPPER_RATIO * o.shape.lower_width;
-    t.size.z >= c.truck_min_height || (cut_high && box_shaped)
+    t.size.z >= c.truck_min_height || (cut_high && o.shape.is_box_shaped())
 }
 
 /// Smooths the track's size towards this view (larger views quickly, smaller ones slowly),
