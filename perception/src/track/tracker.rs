@@ -130,6 +130,8 @@ pub struct Track {
     /// or end on, a truck shows no more than a van's height, and it stays a truck.
     truck: bool,
     heading_flips: u32,
+    /// The top (m above the ground) of the last view when the field of view cut it, else 0.
+    cut_top: f64,
     cluster: Option<usize>,
     /// Where the box centre was after the last matched view (the motion model's estimate),
     /// and when (s).
@@ -450,6 +452,7 @@ impl Tracker {
                 if gated
                     && (too_long
                         || foreign_view(identity, t.truck, o, &self.config.classify)
+                        || shorter_than_cut(t, identity, o)
                         || (o.rect.center - predicted.mean).norm()
                             > reach + o.rect.extent.norm() / 2.0)
                 {
@@ -528,6 +531,7 @@ impl Tracker {
         t.cluster = Some(j);
         t.last_seen = (t.motion.position().xy(), scan.timestamp);
         t.car_top = (t.car_top - TOP_SINK).max(car_top(o));
+        t.cut_top = cut_top(o);
         t.person_width = (t.person_width - WIDTH_SINK).max(person_width(o));
         if !o.clipped {
             // A view cut by the range limit shows nothing of what the object is.
@@ -633,6 +637,7 @@ impl Tracker {
             person_width: person_width(o),
             movement: Movement::new(center.xy(), scan.timestamp),
             heading_flips: 0,
+            cut_top: cut_top(o),
             truck: false,
             cluster: Some(j),
             last_seen: (center.xy(), scan.timestamp),
@@ -913,6 +918,40 @@ fn foreign_view(
         },
         _ => false,
     }
+}
+
+/// A view cut by the field of view shows the thing reaching at least this much higher than an
+/// uncut view of another (m): within it, the two are the same thing seen differently.
+const CUT_TOP_MARGIN: f64 = 0.4;
+
+/// How far (m) from where a track standing still was last seen a view of another thing may
+/// lie: nearer, it is the same thing seen differently (a person under a tree's crown, seen
+/// without it).
+const STILL_TRACK_REACH: f64 = 1.0;
+
+/// The top of view `o` if the field of view cut it (the thing reaches at least that high),
+/// else 0.
+fn cut_top(o: &Observation) -> f64 {
+    if o.shape.truncated { o.shape.top } else { 0.0 }
+}
+
+/// Whether unidentified track `t`, standing still, cannot have seen view `o` of itself: its
+/// last view was cut by the field of view at a top more than [`CUT_TOP_MARGIN`] above the
+/// whole view `o`, of an object's shape, more than [`STILL_TRACK_REACH`] away. A person
+/// walking out of a car's shadow past the post a track stood on took that track, and was
+/// reported only when the post's votes had faded, eight scans later.
+fn shorter_than_cut(t: &Track, identity: Option<ObjectClass>, o: &Observation) -> bool {
+    let objectish = matches!(
+        o.verdict,
+        ShapeVerdict::Object(_) | ShapeVerdict::Movable(_)
+    );
+    identity.is_none()
+        && objectish
+        && !t.is_moving()
+        && t.cut_top > 0.0
+        && !o.shape.truncated
+        && o.shape.top < t.cut_top - CUT_TOP_MARGIN
+        && (o.rect.center - t.last_seen.0).norm() > STILL_TRACK_REACH
 }
 
 /// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
