@@ -423,6 +423,77 @@ fn a_person_walking_past_a_hidden_post_is_not_taken_for_it() {
     }
 }
 
+/// A tree standing at `(x, y)`: a trunk 0.2 m wide up to 1.5 m and a crown 1.6 m wide from
+/// 1.5 m to 3 m, the faces that look at the sensor at the origin.
+fn tree(x: f64, y: f64) -> Vec<Point> {
+    let mut out = Vec::new();
+    for row in 0..29 {
+        let z = 0.2 + 0.1 * f64::from(row);
+        let half: f64 = if z < 1.5 { 0.1 } else { 0.8 };
+        for i in 0..=(2.0 * half / 0.1).round() as i32 {
+            let across = y - half + 0.1 * f64::from(i);
+            out.push(Point::new(x as f32, across as f32, z as f32, 0.0));
+        }
+    }
+    out
+}
+
+/// A person stands 20 m ahead for a second, then steps 0.5 m aside as a tree comes into view
+/// right where they stood; returns the id of the track reported on the person in each scan.
+fn ids_of_a_person_stepping_away_from_a_tree(config: TrackConfig) -> Vec<u64> {
+    let person = |k: usize| pedestrian((20.0, if k < 10 { 2.0 } else { 1.5 }));
+    let cdf = FLAT.cdf();
+    let ground = Ground::horizontal(0.0);
+    let mut tracker = Tracker::new(config);
+    let mut ids = Vec::new();
+    for k in 0..16 {
+        let body = person(k);
+        let mut clouds = vec![body.visible_points(0.0, scan_spacing(20.0))];
+        if k >= 10 {
+            clouds.push(tree(20.0, 2.0));
+        }
+        let scan = ScanContext {
+            timestamp: k as f64 * 0.1,
+            pose: Isometry3::translation(0.0, 0.0, 1.73),
+            ground: &ground,
+            range_limit: f64::INFINITY,
+            views: None,
+        };
+        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
+        let reported: Reported = tracker
+            .reported()
+            .map(|tr| {
+                let s = tr.state();
+                (s.id, s.class, s.center)
+            })
+            .collect();
+        let (id, class, _) = near(&reported, body.center(0.0))
+            .unwrap_or_else(|| panic!("scan {k}: the person is not reported: {reported:?}"));
+        assert_eq!(class, ObjectClass::Pedestrian);
+        ids.push(id);
+    }
+    ids
+}
+
+#[test]
+fn a_pedestrian_track_keeps_the_person_over_a_tree_where_it_expected_them() {
+    // The tree's view lies nearer the track's prediction, but a person shows no tree of
+    // themselves.
+    let ids = ids_of_a_person_stepping_away_from_a_tree(TrackConfig::default());
+    assert!(
+        ids.iter().all(|&id| id == ids[0]),
+        "the person's ids per scan: {ids:?}"
+    );
+    // Without the cost of such a view, the track takes the tree and the person a new id.
+    let mut config = TrackConfig::default();
+    config.association.unlike_structure_cost = 0.0;
+    let ids = ids_of_a_person_stepping_away_from_a_tree(config);
+    assert_ne!(
+        ids[9], ids[15],
+        "the track kept the person without the cost"
+    );
+}
+
 #[test]
 fn a_person_stepping_up_beside_tracked_structure_is_reported() {
     // A kiosk taller than any car (an object only if it moves: tracked, never reported), and a

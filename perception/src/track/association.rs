@@ -10,7 +10,8 @@
 //!
 //! The gated assignment first keeps only the clusters inside the track's motion gate, applies
 //! the χ² test to those, and then assigns clusters to tracks one-to-one, globally, minimising
-//! the sum of costs `-log likelihood of the position + w₁ χ² + w₂ MDT-deviation`.
+//! the sum of costs `-log likelihood of the position + w₁ χ² + w₂ MDT-deviation`, plus a
+//! fixed cost where the view is structure that the track's class does not show.
 
 use super::assignment::{Assigner, Pair};
 use super::config::{AssociationConfig, AssociationMode};
@@ -28,6 +29,10 @@ pub struct PairScore {
     pub mahalanobis2: f64,
     /// Negative log-likelihood of that centre under the prediction.
     pub nll: f64,
+    /// The view is structure that the track's class does not show of itself (a tree's crown
+    /// beside a pedestrian): the pair costs
+    /// [`AssociationConfig::unlike_structure_cost`] more.
+    pub unlike_structure: bool,
 }
 
 /// The pairs of one track and what its motion model can do.
@@ -108,7 +113,14 @@ fn gated_assignment(
                 .map(|p| Pair {
                     row,
                     col: p.cluster,
-                    cost: p.nll + config.chi2_weight * p.chi2 + config.mdt_weight * p.max_deviation,
+                    cost: p.nll
+                        + config.chi2_weight * p.chi2
+                        + config.mdt_weight * p.max_deviation
+                        + if p.unlike_structure {
+                            config.unlike_structure_cost
+                        } else {
+                            0.0
+                        },
                 }),
         );
     }
@@ -126,6 +138,7 @@ mod tests {
             max_deviation,
             mahalanobis2: d2,
             nll: d2,
+            unlike_structure: false,
         }
     }
 
@@ -208,6 +221,36 @@ mod tests {
         );
         let assigned = run(AssociationMode::GatedAssignment, &both, 2);
         assert_eq!(assigned, vec![Some(1), Some(0)]);
+    }
+
+    #[test]
+    fn structure_unlike_the_track_costs_more_than_a_farther_view() {
+        let structure = PairScore {
+            unlike_structure: true,
+            ..pair(0, 0.1, 0.1, 0.5)
+        };
+        let t = TrackPairs {
+            pairs: vec![structure, pair(1, 0.1, 0.1, 2.0)],
+            motion_ready: true,
+            log_det: 0.0,
+        };
+        assert_eq!(
+            run(
+                AssociationMode::GatedAssignment,
+                std::slice::from_ref(&t),
+                2
+            ),
+            vec![Some(1)]
+        );
+        // Alone, such a view is still taken.
+        let alone = TrackPairs {
+            pairs: vec![structure],
+            ..t
+        };
+        assert_eq!(
+            run(AssociationMode::GatedAssignment, &[alone], 1),
+            vec![Some(0)]
+        );
     }
 
     #[test]

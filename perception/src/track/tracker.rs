@@ -471,6 +471,7 @@ impl Tracker {
                     max_deviation: max_deviation(&t.cdf, clusters[j].cdf),
                     mahalanobis2,
                     nll: predicted.negative_log_likelihood(&center.xy()),
+                    unlike_structure: structure_unlike(identity, o),
                 });
             }
         }
@@ -952,6 +953,25 @@ fn shorter_than_cut(t: &Track, identity: Option<ObjectClass>, o: &Observation) -
         && !o.shape.truncated
         && o.shape.top < t.cut_top - CUT_TOP_MARGIN
         && (o.rect.center - t.last_seen.0).norm() > STILL_TRACK_REACH
+}
+
+/// Whether view `o` is structure that an object identified as `identity` does not show of
+/// itself: a person or a rider shows no structure at all, a car no pole, tree or foliage (seen
+/// in part, a car looks too low, floating, or joined to something too large). A pedestrian
+/// walking along a row of trees took their crowns, which slid along with the sensor, and
+/// left the person to a second track.
+fn structure_unlike(identity: Option<ObjectClass>, o: &Observation) -> bool {
+    let ShapeVerdict::Structure(kind) = o.verdict else {
+        return false;
+    };
+    match identity {
+        Some(ObjectClass::Pedestrian | ObjectClass::Cyclist) => true,
+        Some(ObjectClass::Car) => matches!(
+            kind,
+            StructureKind::Pole | StructureKind::Tree | StructureKind::Foliage
+        ),
+        Some(ObjectClass::Unknown | ObjectClass::OtherMovable) | None => false,
+    }
 }
 
 /// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
