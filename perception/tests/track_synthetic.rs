@@ -131,17 +131,33 @@ fn drive(
     visible: impl Fn(usize, usize) -> bool,
     range_limit: f64,
 ) -> Vec<Reported> {
+    let clouds = |k: usize| {
+        let t = k as f64 * 0.1;
+        bodies
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| visible(k, *i))
+            .map(|(_, b)| b.visible_points(t, scan_spacing(b.center(t).norm())))
+            .collect()
+    };
+    drive_clouds(tracker, scans, clouds, range_limit)
+}
+
+/// Feeds `tracker` `scans` scans at 10 Hz, scan `k` holding the clusters `clouds(k)` (world
+/// frame) cut at `range_limit` metres, seen by a sensor 1.73 m above the origin; returns what
+/// each scan reports.
+fn drive_clouds(
+    tracker: &mut Tracker,
+    scans: usize,
+    clouds: impl Fn(usize) -> Vec<Vec<Point>>,
+    range_limit: f64,
+) -> Vec<Reported> {
     let cdf = FLAT.cdf();
     let ground = Ground::horizontal(0.0);
     let mut out = Vec::new();
     for k in 0..scans {
         let t = k as f64 * 0.1;
-        let clouds: Vec<Vec<Point>> = bodies
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| visible(k, *i))
-            .map(|(_, b)| b.visible_points(t, scan_spacing(b.center(t).norm())))
-            .collect();
+        let clouds = clouds(k);
         let clusters = flat_clusters(&clouds, &cdf);
         let scan = ScanContext {
             timestamp: t,
@@ -442,37 +458,23 @@ fn tree(x: f64, y: f64) -> Vec<Point> {
 /// right where they stood; returns the id of the track reported on the person in each scan.
 fn ids_of_a_person_stepping_away_from_a_tree(config: TrackConfig) -> Vec<u64> {
     let person = |k: usize| pedestrian((20.0, if k < 10 { 2.0 } else { 1.5 }));
-    let cdf = FLAT.cdf();
-    let ground = Ground::horizontal(0.0);
-    let mut tracker = Tracker::new(config);
-    let mut ids = Vec::new();
-    for k in 0..16 {
-        let body = person(k);
-        let mut clouds = vec![body.visible_points(0.0, scan_spacing(20.0))];
+    let clouds = |k: usize| {
+        let mut clouds = vec![person(k).visible_points(0.0, scan_spacing(20.0))];
         if k >= 10 {
             clouds.push(tree(20.0, 2.0));
         }
-        let scan = ScanContext {
-            timestamp: k as f64 * 0.1,
-            pose: Isometry3::translation(0.0, 0.0, 1.73),
-            ground: &ground,
-            range_limit: f64::INFINITY,
-            views: None,
-        };
-        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        let reported: Reported = tracker
-            .reported()
-            .map(|tr| {
-                let s = tr.state();
-                (s.id, s.class, s.center)
-            })
-            .collect();
-        let (id, class, _) = near(&reported, body.center(0.0))
-            .unwrap_or_else(|| panic!("scan {k}: the person is not reported: {reported:?}"));
-        assert_eq!(class, ObjectClass::Pedestrian);
-        ids.push(id);
-    }
-    ids
+        clouds
+    };
+    let out = drive_clouds(&mut Tracker::new(config), 16, clouds, f64::INFINITY);
+    out.iter()
+        .enumerate()
+        .map(|(k, reported)| {
+            let (id, class, _) = near(reported, person(k).center(0.0))
+                .unwrap_or_else(|| panic!("scan {k}: the person is not reported: {reported:?}"));
+            assert_eq!(class, ObjectClass::Pedestrian);
+            id
+        })
+        .collect()
 }
 
 #[test]

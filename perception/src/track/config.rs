@@ -47,10 +47,11 @@ pub struct AssociationConfig {
     /// so is one longer than `classify.pedestrian_max_length` plus 1 m. Default 2.0.
     pub size_gate: f64,
     /// Added to the assignment cost of a view judged structure that the track's class does
-    /// not show of itself: any structure for a pedestrian or a cyclist, a pole, a tree or
-    /// foliage for a car. Such a view may still be the track's (a person under a tree), but
-    /// not when the object's own view lies nearby. On the simulated drives 2.5-4 gave the
-    /// same gains; 2 and 5 fewer. Default 3.0.
+    /// not show of itself: any structure for a pedestrian or a cyclist, a tree or foliage for
+    /// a car (a pole's view no object's track takes at all). Such a view may still be the
+    /// track's (a person under a tree), but not when the object's own view lies nearby. On
+    /// the simulated drives of seeds 1-3, 2.5-4 gave mean MOTA 91.65-91.69 %, 2 and 5 gave
+    /// 91.59 and 91.45 % (91.65 % without the cost). Default 3.0.
     pub unlike_structure_cost: f64,
 }
 

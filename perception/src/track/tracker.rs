@@ -130,8 +130,8 @@ pub struct Track {
     /// or end on, a truck shows no more than a van's height, and it stays a truck.
     truck: bool,
     heading_flips: u32,
-    /// The top (m above the ground) of the last view when the field of view cut it, else 0.
-    cut_top: f64,
+    /// The top (m above the ground) of the last view, if the field of view cut it.
+    cut_top: Option<f64>,
     cluster: Option<usize>,
     /// Where the box centre was after the last matched view (the motion model's estimate),
     /// and when (s).
@@ -930,10 +930,9 @@ const CUT_TOP_MARGIN: f64 = 0.4;
 /// without it).
 const STILL_TRACK_REACH: f64 = 1.0;
 
-/// The top of view `o` if the field of view cut it (the thing reaches at least that high),
-/// else 0.
-fn cut_top(o: &Observation) -> f64 {
-    if o.shape.truncated { o.shape.top } else { 0.0 }
+/// The top of view `o` if the field of view cut it: the thing reaches at least that high.
+fn cut_top(o: &Observation) -> Option<f64> {
+    o.shape.truncated.then_some(o.shape.top)
 }
 
 /// Whether unidentified track `t`, standing still, cannot have seen view `o` of itself: its
@@ -949,27 +948,25 @@ fn shorter_than_cut(t: &Track, identity: Option<ObjectClass>, o: &Observation) -
     identity.is_none()
         && objectish
         && !t.is_moving()
-        && t.cut_top > 0.0
         && !o.shape.truncated
-        && o.shape.top < t.cut_top - CUT_TOP_MARGIN
+        && t.cut_top
+            .is_some_and(|top| o.shape.top < top - CUT_TOP_MARGIN)
         && (o.rect.center - t.last_seen.0).norm() > STILL_TRACK_REACH
 }
 
 /// Whether view `o` is structure that an object identified as `identity` does not show of
-/// itself: a person or a rider shows no structure at all, a car no pole, tree or foliage (seen
-/// in part, a car looks too low, floating, or joined to something too large). A pedestrian
-/// walking along a row of trees took their crowns, which slid along with the sensor, and
-/// left the person to a second track.
+/// itself: a person or a rider shows no structure at all, a car no tree or foliage (seen in
+/// part, a car looks too low, floating, or joined to something too large; no object's track
+/// takes a pole's view at all, see [`foreign_view`]). A pedestrian walking along a row of
+/// trees took their crowns, which slid along with the sensor, and left the person to a second
+/// track.
 fn structure_unlike(identity: Option<ObjectClass>, o: &Observation) -> bool {
     let ShapeVerdict::Structure(kind) = o.verdict else {
         return false;
     };
     match identity {
         Some(ObjectClass::Pedestrian | ObjectClass::Cyclist) => true,
-        Some(ObjectClass::Car) => matches!(
-            kind,
-            StructureKind::Pole | StructureKind::Tree | StructureKind::Foliage
-        ),
+        Some(ObjectClass::Car) => matches!(kind, StructureKind::Tree | StructureKind::Foliage),
         Some(ObjectClass::Unknown | ObjectClass::OtherMovable) | None => false,
     }
 }
