@@ -640,3 +640,41 @@ fn a_parked_cars_heading_outlasts_a_few_views_that_read_it_crosswise() {
         "{turned}"
     );
 }
+
+/// The id of a parked car 30 m ahead, reported before it is hidden (from scan 20, as behind a
+/// passing truck), and what is reported near a person who walks out 2.3 m before its box half
+/// a second later, inside the gate the car's track has grown while it coasted, once the
+/// person has been seen for 1.4 s (scan 38). Taken for the car, the person was reported as a
+/// car, then late and 0.7 m behind.
+fn ids_of_a_car_and_a_person_stepping_out_before_it(
+    config: TrackConfig,
+) -> (u64, Option<(u64, ObjectClass)>) {
+    let parked = car((30.0, 0.0), (0.0, 0.0));
+    let person = Body {
+        velocity: Vector2::new(0.0, -1.0),
+        ..pedestrian((25.5, 2.8))
+    };
+    let visible = |k: usize, i: usize| if i == 0 { k < 20 } else { k >= 25 };
+    let out = run(config, &[parked, person], 39, visible);
+    let (car_id, class, _) = near(&out[19], parked.center(0.0)).expect("the car is reported");
+    assert_eq!(class, ObjectClass::Car);
+    let seen = near(&out[38], person.center(3.8)).map(|(id, class, _)| (id, class));
+    (car_id, seen)
+}
+
+#[test]
+fn a_hidden_parked_cars_track_does_not_take_a_person_beside_it() {
+    let (car_id, person) = ids_of_a_car_and_a_person_stepping_out_before_it(TrackConfig::default());
+    let (person_id, class) = person.expect("the person is reported");
+    assert_ne!(person_id, car_id, "the car's track took the person");
+    assert_eq!(class, ObjectClass::Pedestrian);
+    // Without the bound on a parked car's reach, the gate its coasting has grown lets it jump.
+    let mut config = TrackConfig::default();
+    config.motion.parked_max_acceleration = f64::INFINITY;
+    let (car_id, person) = ids_of_a_car_and_a_person_stepping_out_before_it(config);
+    assert_eq!(
+        person.map(|(id, _)| id),
+        Some(car_id),
+        "the gate alone no longer lets the car's track jump"
+    );
+}

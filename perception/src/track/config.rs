@@ -100,6 +100,11 @@ pub struct MotionConfig {
     pub pedestrian_max_speed: f64,
     /// ...plus this much (m) for the error of the two box centres. Default 1.
     pub pedestrian_reach_margin: f64,
+    /// A parked car's track takes no view lying outside its box by more than a car pulling
+    /// out at this acceleration (m/s²) covers since it was last seen... Default 3.
+    pub parked_max_acceleration: f64,
+    /// ...plus this much (m). Default 1.
+    pub parked_reach_margin: f64,
     /// A track faster than this (m/s), and known to be, is headed along its velocity.
     /// Default 1.5.
     pub heading_from_velocity_speed: f64,
@@ -120,6 +125,8 @@ impl Default for MotionConfig {
             birth_velocity_sigma_pedestrian: 2.5,
             pedestrian_max_speed: 3.0,
             pedestrian_reach_margin: 1.0,
+            parked_max_acceleration: 3.0,
+            parked_reach_margin: 1.0,
             heading_from_velocity_speed: 1.5,
         }
     }

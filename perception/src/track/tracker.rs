@@ -446,6 +446,7 @@ impl Tracker {
             let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
                 + t.size.xy().norm() / 2.0;
             let person_reach = pedestrian_reach(t, scan, &self.config);
+            let car_reach = parked_car_reach(t, scan, &self.config);
             let longest = longest_view(t, &self.config);
             for (j, o) in self.observations.iter().enumerate() {
                 let too_long = o.shape.length > longest;
@@ -453,6 +454,9 @@ impl Tracker {
                     && (too_long
                         || foreign_view(identity, t.truck, o, &self.config.classify)
                         || shorter_than_cut(t, identity, o)
+                        || car_reach.is_some_and(|r| {
+                            !inside_box(t, &o.rect.center, r + o.rect.extent.norm() / 2.0)
+                        })
                         || (o.rect.center - predicted.mean).norm()
                             > reach + o.rect.extent.norm() / 2.0)
                 {
@@ -1008,6 +1012,19 @@ fn pedestrian_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> 
     let elapsed = (scan.timestamp - t.last_seen.1).max(0.0);
     let m = &config.motion;
     Some(m.pedestrian_max_speed * elapsed + m.pedestrian_reach_margin)
+}
+
+/// How far (m) outside parked car `t`'s box a view may lie now: as far as the car, pulling
+/// out since it was last seen, has gone, plus a margin. A parked car hidden for a few scans
+/// took a pedestrian 3 m beyond its box once the motion model's gate had grown. `None` for
+/// tracks not parked as cars.
+fn parked_car_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> Option<f64> {
+    if !t.is_parked() || t.identity() != Some(ObjectClass::Car) {
+        return None;
+    }
+    let elapsed = (scan.timestamp - t.last_seen.1).max(0.0);
+    let m = &config.motion;
+    Some(0.5 * m.parked_max_acceleration * elapsed * elapsed + m.parked_reach_margin)
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
