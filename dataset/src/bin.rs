@@ -1,27 +1,43 @@
 //! KITTI Velodyne `.bin` scans: N x 4 little-endian `f32` (x, y, z, reflectance), no header.
 
+use std::fs::File;
+use std::io::Read;
 use std::path::Path;
 
 use trackd_perception::Point;
 
-use crate::error::{DatasetError, read_bytes, write_bytes};
+use crate::error::{DatasetError, write_bytes};
 
 /// Bytes per point in a `.bin` file.
 pub const POINT_BYTES: usize = std::mem::size_of::<Point>();
 
 /// Reads a `.bin` scan as it is (no point dropped). A size that is not a multiple of 16 bytes
-/// is a [`DatasetError::Format`] (a truncated file).
+/// is a [`DatasetError::Format`] (a truncated file). The file is read straight into the
+/// points' memory, with no byte buffer between.
 pub fn read_bin(path: &Path) -> Result<Vec<Point>, DatasetError> {
-    let bytes = read_bytes(path)?;
-    points_from_le_bytes(&bytes).ok_or_else(|| {
-        DatasetError::format(
-            path,
-            format!(
-                "{} bytes is not a whole number of {POINT_BYTES}-byte points (truncated file?)",
-                bytes.len()
-            ),
-        )
-    })
+    let io = |e| DatasetError::io(path, e);
+    let mut file = File::open(path).map_err(io)?;
+    let bytes = file.metadata().map_err(io)?.len();
+    let len = usize::try_from(bytes)
+        .ok()
+        .filter(|len| len.is_multiple_of(POINT_BYTES))
+        .ok_or_else(|| {
+            DatasetError::format(
+                path,
+                format!(
+                    "{bytes} bytes is not a whole number of {POINT_BYTES}-byte points (truncated file?)"
+                ),
+            )
+        })?;
+    let mut points = vec![Point::default(); len / POINT_BYTES];
+    file.read_exact(bytemuck::cast_slice_mut::<Point, u8>(&mut points))
+        .map_err(io)?;
+    if cfg!(target_endian = "big") {
+        for v in bytemuck::cast_slice_mut::<Point, u32>(&mut points) {
+            *v = u32::from_le(*v);
+        }
+    }
+    Ok(points)
 }
 
 /// Writes points as a `.bin` scan (little-endian `f32`, x y z intensity).
