@@ -7,7 +7,9 @@
 //! that came into view looks arrived, and is judged static once the scan still hits it; and a
 //! walker identified only while it moved is not held as a person once it stands still; and a
 //! far car's track that moved on to a bush by the road does not report the bush as the car; a
-//! parked car's box does not slide past the car when more of its side comes into view.
+//! parked car's box does not slide past the car when more of its side comes into view; and a
+//! coasting track is not reported where the scan sees through its box, but is while a board
+//! hides it.
 
 mod track_support;
 mod view_support;
@@ -364,4 +366,82 @@ fn a_parked_cars_box_does_not_overshoot_as_more_of_it_comes_into_view() {
         along_side[12..].iter().all(|&y| y < 0.1),
         "box centre along the side (m) per scan: {along_side:.2?}"
     );
+}
+
+/// The ground from 4 m to 45 m ahead, 5 m to either side, every 0.1 m (world frame): what the
+/// laser hits past a car 20 m ahead.
+fn long_ground() -> Vec<Point> {
+    let mut out = Vec::new();
+    for i in 0..410 {
+        for j in 0..100 {
+            let (x, y) = (4.0 + 0.1 * f64::from(i), -5.0 + 0.1 * f64::from(j));
+            out.push(Point::new(x as f32, y as f32, 0.0, 0.0));
+        }
+    }
+    out
+}
+
+/// A board 12 m ahead, 2.5 m tall, from y = 0 to 5 m: it hides the car parked 20 m ahead.
+fn screen() -> Vec<Point> {
+    let mut out = Vec::new();
+    for row in 0..=25 {
+        for i in 0..=50 {
+            let (y, z) = (0.1 * f64::from(i), 0.1 * f64::from(row));
+            out.push(Point::new(12.0, y as f32, z as f32, 0.0));
+        }
+    }
+    out
+}
+
+/// How many tracks are reported within 2 m of a car parked 20 m ahead (its side and rear seen
+/// for 1.5 s) in the scan after it vanishes: `hidden`, behind a board driven in front of it;
+/// otherwise gone, the ground behind it in plain view.
+fn reported_where_the_car_was(hidden: bool) -> usize {
+    let car = car_side_and_rear(20.0, 1.0);
+    let center = Vector2::new(20.9, 3.25);
+    let mut tracker = Tracker::new(TrackConfig::default());
+    let mut views = RecentViews::new(2.0);
+    let ground = Ground::horizontal(0.0);
+    let cdf = FLAT.cdf();
+    let background: Vec<Point> = background().into_iter().chain(long_ground()).collect();
+    let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
+    let mut reported = 0;
+    for k in 0..16 {
+        let t = f64::from(k) * 0.1;
+        let clouds = match (k < 15, hidden) {
+            (true, _) => vec![car.clone()],
+            (false, true) => vec![screen()],
+            (false, false) => Vec::new(),
+        };
+        record_view(
+            &mut views,
+            t,
+            pose,
+            clouds.iter().flatten().chain(&background),
+        );
+        let scan = ScanContext {
+            timestamp: t,
+            pose,
+            ground: &ground,
+            range_limit: f64::INFINITY,
+            views: Some(&views),
+        };
+        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
+        reported = tracker
+            .reported()
+            .filter(|tr| (tr.state().center.xy() - center).norm() < 2.0)
+            .count();
+        if k == 14 {
+            assert_eq!(reported, 1, "the parked car is reported while seen");
+        }
+    }
+    reported
+}
+
+#[test]
+fn a_coasting_track_is_not_reported_where_the_scan_sees_through_its_box() {
+    // Gone: the scan sees the ground behind where the car stood, and nothing in front of it.
+    assert_eq!(reported_where_the_car_was(false), 0);
+    // Hidden: the board stands in front of the car, so the track coasts and is reported.
+    assert_eq!(reported_where_the_car_was(true), 1);
 }

@@ -171,7 +171,8 @@ pub struct TrackConfig {
     /// through misses only once matched twice.
     pub birth_hits: u32,
     /// A confirmed track missed for at most this many scans is still reported at its
-    /// predicted position (coasting through short occlusions). Default 2.
+    /// predicted position (coasting through short occlusions), unless the scan sees through
+    /// its box. Default 2.
     pub report_coasting_scans: u32,
     /// Split clusters DBSCAN merged: people a gap away peeled off, a cluster that holds
     /// the predicted boxes of several confirmed tracks shared out among them (two riders side

@@ -3,7 +3,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use nalgebra::{Isometry3, Vector2, Vector3};
+use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use rayon::prelude::*;
 
 use super::assignment::Assigner;
@@ -17,6 +17,7 @@ use super::motion::{MotionModel, wrap_angle};
 use super::movement::{BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS};
 use super::observation::{Observation, Observer};
 use super::views::RecentViews;
+use super::visibility::Visibility;
 use super::votes::ClassVotes;
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
@@ -39,6 +40,10 @@ const FRAGMENT_MARGIN: f64 = 0.5;
 /// of the track's predicted box: a track that jumped to another cluster stands where the
 /// laser passed freely before, and has not moved.
 const ARRIVAL_BOX_MARGIN: f64 = 1.0;
+
+/// Half-width (m) of the window in which a missed track's box is looked through (see
+/// [`box_seen_through`]): as narrow as a moving object's probes are looked at.
+const SEEN_THROUGH_HALF_WIDTH: f64 = 0.15;
 
 /// One cluster handed to the tracker.
 #[derive(Clone, Copy, Debug)]
@@ -110,6 +115,10 @@ pub struct Track {
     age: u32,
     hits: u32,
     misses: u32,
+    /// Whether the last scan, which the track missed, saw through the middle of its predicted
+    /// box: the object is not where the track expects it. An object hidden by something
+    /// nearer is not seen through; a track seen through is not reported while it coasts.
+    seen_through: bool,
     votes: ClassVotes,
     /// The identity the votes last gave the track as if it stood still (views shaped like
     /// nothing static), where the track was then and in how many views in all they gave it
@@ -296,12 +305,13 @@ impl Tracker {
         };
         track.hits >= self.config.birth_hits
             && track.misses <= coasting
+            && !(track.misses > 0 && track.seen_through)
             && track.identity().is_some()
     }
 
     /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
-    /// `CONFIRMED_HITS` times.
+    /// `CONFIRMED_HITS` times if the last scan did not see through their box.
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }
@@ -399,7 +409,9 @@ impl Tracker {
                     self.update(k, j, scan, &clusters[j]);
                 }
                 None => {
+                    let seen_through = box_seen_through(&self.tracks[k], scan);
                     let t = &mut self.tracks[k];
+                    t.seen_through = seen_through;
                     t.misses += 1;
                     t.confidence = self.config.confidence.miss(t.confidence, dt);
                 }
@@ -636,6 +648,7 @@ impl Tracker {
             age: 1,
             hits: 1,
             misses: 0,
+            seen_through: false,
             votes,
             held: None,
             car_top: car_top(o),
@@ -1025,6 +1038,29 @@ fn parked_car_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> 
     let elapsed = (scan.timestamp - t.last_seen.1).max(0.0);
     let m = &config.motion;
     Some(0.5 * m.parked_max_acceleration * elapsed * elapsed + m.parked_reach_margin)
+}
+
+/// Whether the scan sees through the middle of track `t`'s predicted box, at its centre and
+/// a quarter of its height above: free space where the object should stand. Returns well in
+/// front of the box (whatever hides the object) tell nothing (see
+/// [`super::visibility::RangeImage::visibility_past_occluders`]). False without the scan's
+/// range image.
+fn box_seen_through(t: &Track, scan: &ScanContext<'_>) -> bool {
+    let Some(view) = scan
+        .views
+        .and_then(RecentViews::latest)
+        .filter(|view| view.timestamp == scan.timestamp)
+    else {
+        return false;
+    };
+    let to_sensor = view.pose.inverse();
+    let center = t.motion.position();
+    [0.0, t.size.z / 4.0].iter().all(|dz| {
+        let p = to_sensor * Point3::new(center.x, center.y, center.z + dz);
+        view.image
+            .visibility_past_occluders(&p.coords, SEEN_THROUGH_HALF_WIDTH)
+            == Visibility::SeenThrough
+    })
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
