@@ -47,13 +47,7 @@ fn face(center: Vector2<f64>, columns: u32) -> Vec<Point> {
 /// A wall across the view 40 m ahead and the ground from 4 m to 12 m ahead: what the laser
 /// hits past the posts.
 fn background() -> Vec<Point> {
-    let mut out = Vec::new();
-    for i in 0..160 {
-        for j in 0..120 {
-            let (x, y) = (4.0 + 0.05 * f64::from(i), -3.0 + 0.05 * f64::from(j));
-            out.push(Point::new(x as f32, y as f32, 0.0, 0.0));
-        }
-    }
+    let mut out = ground_plane(12.0, 3.0, 0.05);
     for i in 0..400 {
         for row in 0..30 {
             let y = -20.0 + 0.1 * f64::from(i);
@@ -368,13 +362,17 @@ fn a_parked_cars_box_does_not_overshoot_as_more_of_it_comes_into_view() {
     );
 }
 
-/// The ground from 4 m to 45 m ahead, 5 m to either side, every 0.1 m (world frame): what the
-/// laser hits past a car 20 m ahead.
-fn long_ground() -> Vec<Point> {
+/// The ground from 4 m to `to` metres ahead and `half_width` metres to either side, every
+/// `step` metres (world frame).
+fn ground_plane(to: f64, half_width: f64, step: f64) -> Vec<Point> {
+    let (rows, columns) = (
+        ((to - 4.0) / step).round() as u32,
+        (2.0 * half_width / step).round() as u32,
+    );
     let mut out = Vec::new();
-    for i in 0..410 {
-        for j in 0..100 {
-            let (x, y) = (4.0 + 0.1 * f64::from(i), -5.0 + 0.1 * f64::from(j));
+    for i in 0..rows {
+        for j in 0..columns {
+            let (x, y) = (4.0 + step * f64::from(i), -half_width + step * f64::from(j));
             out.push(Point::new(x as f32, y as f32, 0.0, 0.0));
         }
     }
@@ -403,7 +401,11 @@ fn reported_where_the_car_was(hidden: bool) -> usize {
     let mut views = RecentViews::new(2.0);
     let ground = Ground::horizontal(0.0);
     let cdf = FLAT.cdf();
-    let background: Vec<Point> = background().into_iter().chain(long_ground()).collect();
+    // The ground up to 45 m: what the laser hits past the car.
+    let background: Vec<Point> = background()
+        .into_iter()
+        .chain(ground_plane(45.0, 5.0, 0.1))
+        .collect();
     let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
     let mut reported = 0;
     for k in 0..16 {
