@@ -32,11 +32,7 @@ pub fn read_bin(path: &Path) -> Result<Vec<Point>, DatasetError> {
     let mut points = vec![Point::default(); len / POINT_BYTES];
     file.read_exact(bytemuck::cast_slice_mut::<Point, u8>(&mut points))
         .map_err(io)?;
-    if cfg!(target_endian = "big") {
-        for v in bytemuck::cast_slice_mut::<Point, u32>(&mut points) {
-            *v = u32::from_le(*v);
-        }
-    }
+    from_le_in_place(&mut points);
     Ok(points)
 }
 
@@ -53,12 +49,18 @@ pub(crate) fn points_from_le_bytes(bytes: &[u8]) -> Option<Vec<Point>> {
     }
     let mut points = vec![Point::default(); bytes.len() / POINT_BYTES];
     bytemuck::cast_slice_mut::<Point, u8>(&mut points).copy_from_slice(bytes);
+    from_le_in_place(&mut points);
+    Some(points)
+}
+
+/// Turns points holding little-endian `f32` bits into native ones (nothing to do on
+/// little-endian machines).
+fn from_le_in_place(points: &mut [Point]) {
     if cfg!(target_endian = "big") {
-        for v in bytemuck::cast_slice_mut::<Point, u32>(&mut points) {
+        for v in bytemuck::cast_slice_mut::<Point, u32>(points) {
             *v = u32::from_le(*v);
         }
     }
-    Some(points)
 }
 
 /// Packed little-endian bytes of points.

@@ -92,11 +92,22 @@ fn run_bodies(
     pose_error: impl Fn(u32) -> Vector2<f64>,
     surface_variation: impl Fn(f64) -> f32,
 ) -> Vec<Vec<Vector3<f64>>> {
+    run_bodies_before(&background(), scans, bodies, pose_error, surface_variation)
+}
+
+/// [`run_bodies`] with `background` (world frame) instead of [`background`]: what the laser
+/// hits past the bodies, in the range images only.
+fn run_bodies_before(
+    background: &[Point],
+    scans: u32,
+    bodies: impl Fn(f64) -> Vec<Vec<Point>>,
+    pose_error: impl Fn(u32) -> Vector2<f64>,
+    surface_variation: impl Fn(f64) -> f32,
+) -> Vec<Vec<Vector3<f64>>> {
     let mut tracker = Tracker::new(TrackConfig::default());
     let mut views = RecentViews::new(2.0);
     let ground = Ground::horizontal(0.0);
     let cdf = FLAT.cdf();
-    let background = background();
     let mut out = Vec::new();
     for k in 0..scans {
         let t = f64::from(k) * 0.1;
@@ -107,7 +118,7 @@ fn run_bodies(
             &mut views,
             t,
             pose,
-            clouds.iter().flatten().chain(&background),
+            clouds.iter().flatten().chain(background),
         );
         let seen: Vec<Vec<Point>> = clouds
             .iter()
@@ -397,47 +408,34 @@ fn screen() -> Vec<Point> {
 fn reported_where_the_car_was(hidden: bool) -> usize {
     let car = car_side_and_rear(20.0, 1.0);
     let center = Vector2::new(20.9, 3.25);
-    let mut tracker = Tracker::new(TrackConfig::default());
-    let mut views = RecentViews::new(2.0);
-    let ground = Ground::horizontal(0.0);
-    let cdf = FLAT.cdf();
     // The ground up to 45 m: what the laser hits past the car.
     let background: Vec<Point> = background()
         .into_iter()
         .chain(ground_plane(45.0, 5.0, 0.1))
         .collect();
-    let pose = Isometry3::translation(0.0, 0.0, SENSOR_Z);
-    let mut reported = 0;
-    for k in 0..16 {
-        let t = f64::from(k) * 0.1;
-        let clouds = match (k < 15, hidden) {
+    let out = run_bodies_before(
+        &background,
+        16,
+        |t| match (t < 1.45, hidden) {
             (true, _) => vec![car.clone()],
             (false, true) => vec![screen()],
             (false, false) => Vec::new(),
-        };
-        record_view(
-            &mut views,
-            t,
-            pose,
-            clouds.iter().flatten().chain(&background),
-        );
-        let scan = ScanContext {
-            timestamp: t,
-            pose,
-            ground: &ground,
-            range_limit: f64::INFINITY,
-            views: Some(&views),
-        };
-        tracker.step(&scan, &flat_clusters(&clouds, &cdf));
-        reported = tracker
-            .reported()
-            .filter(|tr| (tr.state().center.xy() - center).norm() < 2.0)
-            .count();
-        if k == 14 {
-            assert_eq!(reported, 1, "the parked car is reported while seen");
-        }
-    }
-    reported
+        },
+        |_| Vector2::zeros(),
+        |_| 0.0,
+    );
+    let near_car = |reported: &[Vector3<f64>]| {
+        reported
+            .iter()
+            .filter(|c| (c.xy() - center).norm() < 2.0)
+            .count()
+    };
+    assert_eq!(
+        near_car(&out[14]),
+        1,
+        "the parked car is reported while seen"
+    );
+    near_car(&out[15])
 }
 
 #[test]

@@ -211,9 +211,7 @@ impl Movement {
     /// not count: a walker coming along the line of sight hides the place they left from the
     /// rows of their own body, and a parked car the rows of their legs.
     fn left_counts(&self, now: &View) -> (usize, usize) {
-        count_views(now, self.probes.iter().copied(), |image, p| {
-            image.visibility_past_occluders(p, LEFT_HALF_WIDTH)
-        })
+        count_views(now, self.probes.iter().copied(), left_visibility)
     }
 
     /// Judges the track moving when at least [`MIN_DECIDED_PROBES`] of its probes were
@@ -298,6 +296,18 @@ fn probe_points<'p>(
         .map(|p| Vector3::new(p.x as f64, p.y as f64, p.z as f64))
         .filter(|p| scan.ground.height(p) >= PROBE_MIN_HEIGHT)
         .take(PROBES)
+}
+
+/// What `image` shows of the sensor-frame point `p` when asked whether an object has left it:
+/// what stands well in front of it does not count (see [`LEFT_HALF_WIDTH`]).
+fn left_visibility(image: &RangeImage, p: &Vector3<f64>) -> Visibility {
+    image.visibility_past_occluders(p, LEFT_HALF_WIDTH)
+}
+
+/// Whether the scan `now` sees through every one of the world-frame `points`, judged as a
+/// track's probes are when it is asked whether the object has left them: nothing stands there.
+pub(super) fn seen_through_all(now: &View, points: &[Vector3<f64>]) -> bool {
+    count_views(now, points.iter().copied(), left_visibility).0 == points.len()
 }
 
 /// How many of the world-frame `points` `view` saw through (free space then) and how many it

@@ -3,7 +3,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use nalgebra::{Isometry3, Point3, Vector2, Vector3};
+use nalgebra::{Isometry3, Vector2, Vector3};
 use rayon::prelude::*;
 
 use super::assignment::Assigner;
@@ -14,10 +14,11 @@ use super::config::{AssociationMode, TrackConfig};
 use super::dormant::DormantTracks;
 use super::ground::Ground;
 use super::motion::{MotionModel, wrap_angle};
-use super::movement::{BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS};
+use super::movement::{
+    BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS, seen_through_all,
+};
 use super::observation::{Observation, Observer};
 use super::views::RecentViews;
-use super::visibility::Visibility;
 use super::votes::ClassVotes;
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
@@ -40,10 +41,6 @@ const FRAGMENT_MARGIN: f64 = 0.5;
 /// of the track's predicted box: a track that jumped to another cluster stands where the
 /// laser passed freely before, and has not moved.
 const ARRIVAL_BOX_MARGIN: f64 = 1.0;
-
-/// Half-width (m) of the window in which a missed track's box is looked through (see
-/// [`box_seen_through`]): as narrow as a moving object's probes are looked at.
-const SEEN_THROUGH_HALF_WIDTH: f64 = 0.15;
 
 /// One cluster handed to the tracker.
 #[derive(Clone, Copy, Debug)]
@@ -458,7 +455,7 @@ impl Tracker {
             let reach = (gate * predicted.covariance.symmetric_eigenvalues().max()).sqrt()
                 + t.size.xy().norm() / 2.0;
             let person_reach = pedestrian_reach(t, scan, &self.config);
-            let car_reach = parked_car_reach(t, scan, &self.config);
+            let car_reach = parked_car_reach(t, identity, scan, &self.config);
             let longest = longest_view(t, &self.config);
             for (j, o) in self.observations.iter().enumerate() {
                 let too_long = o.shape.length > longest;
@@ -1027,12 +1024,17 @@ fn pedestrian_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> 
     Some(m.pedestrian_max_speed * elapsed + m.pedestrian_reach_margin)
 }
 
-/// How far (m) outside parked car `t`'s box a view may lie now: as far as the car, pulling
-/// out since it was last seen, has gone, plus a margin. A parked car hidden for a few scans
+/// How far (m) outside parked car `t`'s box (its class `identity`) a view may lie now: as far
+/// as the car, pulling out since it was last seen, has gone, plus a margin. A parked car hidden for a few scans
 /// took a pedestrian 3 m beyond its box once the motion model's gate had grown. `None` for
 /// tracks not parked as cars.
-fn parked_car_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> Option<f64> {
-    if !t.is_parked() || t.identity() != Some(ObjectClass::Car) {
+fn parked_car_reach(
+    t: &Track,
+    identity: Option<ObjectClass>,
+    scan: &ScanContext<'_>,
+    config: &TrackConfig,
+) -> Option<f64> {
+    if !t.is_parked() || identity != Some(ObjectClass::Car) {
         return None;
     }
     let elapsed = (scan.timestamp - t.last_seen.1).max(0.0);
@@ -1041,26 +1043,15 @@ fn parked_car_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> 
 }
 
 /// Whether the scan sees through the middle of track `t`'s predicted box, at its centre and
-/// a quarter of its height above: free space where the object should stand. Returns well in
-/// front of the box (whatever hides the object) tell nothing (see
-/// [`super::visibility::RangeImage::visibility_past_occluders`]). False without the scan's
-/// range image.
+/// a quarter of its height above, as a moving track's probes are looked through: free space
+/// where the object should stand; what hides the object tells nothing. False without the
+/// scan's range image.
 fn box_seen_through(t: &Track, scan: &ScanContext<'_>) -> bool {
-    let Some(view) = scan
-        .views
-        .and_then(RecentViews::latest)
-        .filter(|view| view.timestamp == scan.timestamp)
-    else {
+    let Some(now) = scan.views.and_then(|views| views.at(scan.timestamp)) else {
         return false;
     };
-    let to_sensor = view.pose.inverse();
     let center = t.motion.position();
-    [0.0, t.size.z / 4.0].iter().all(|dz| {
-        let p = to_sensor * Point3::new(center.x, center.y, center.z + dz);
-        view.image
-            .visibility_past_occluders(&p.coords, SEEN_THROUGH_HALF_WIDTH)
-            == Visibility::SeenThrough
-    })
+    seen_through_all(now, &[center, center + Vector3::z() * (t.size.z / 4.0)])
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
