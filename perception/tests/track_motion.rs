@@ -9,7 +9,7 @@
 //! far car's track that moved on to a bush by the road does not report the bush as the car; a
 //! parked car's box does not slide past the car when more of its side comes into view; and a
 //! coasting track is not reported where the scan sees through its box, but is while a board
-//! hides it.
+//! hides it, a parked car's for four scans.
 
 mod track_support;
 mod view_support;
@@ -403,9 +403,9 @@ fn screen() -> Vec<Point> {
 }
 
 /// How many tracks are reported within 2 m of a car parked 20 m ahead (its side and rear seen
-/// for 1.5 s) in the scan after it vanishes: `hidden`, behind a board driven in front of it;
-/// otherwise gone, the ground behind it in plain view.
-fn reported_where_the_car_was(hidden: bool) -> usize {
+/// for 1.5 s) in each of the six scans after it vanishes: `hidden`, behind a board driven in
+/// front of it; otherwise gone, the ground behind it in plain view.
+fn reported_where_the_car_was(hidden: bool) -> Vec<usize> {
     let car = car_side_and_rear(20.0, 1.0);
     let center = Vector2::new(20.9, 3.25);
     // The ground up to 45 m: what the laser hits past the car.
@@ -415,7 +415,7 @@ fn reported_where_the_car_was(hidden: bool) -> usize {
         .collect();
     let out = run_bodies_before(
         &background,
-        16,
+        21,
         |t| match (t < 1.45, hidden) {
             (true, _) => vec![car.clone()],
             (false, true) => vec![screen()],
@@ -435,13 +435,26 @@ fn reported_where_the_car_was(hidden: bool) -> usize {
         1,
         "the parked car is reported while seen"
     );
-    near_car(&out[15])
+    out[15..]
+        .iter()
+        .map(|reported| near_car(reported))
+        .collect()
 }
 
 #[test]
 fn a_coasting_track_is_not_reported_where_the_scan_sees_through_its_box() {
     // Gone: the scan sees the ground behind where the car stood, and nothing in front of it.
-    assert_eq!(reported_where_the_car_was(false), 0);
-    // Hidden: the board stands in front of the car, so the track coasts and is reported.
-    assert_eq!(reported_where_the_car_was(true), 1);
+    assert_eq!(reported_where_the_car_was(false), [0; 6]);
+}
+
+#[test]
+fn a_hidden_parked_car_is_reported_while_it_coasts_through_four_scans() {
+    // Hidden: the board stands in front of the car, so its track coasts and is reported for
+    // `report_parked_coasting_scans` (4) scans, twice as long as a track not parked.
+    assert_eq!(
+        TrackConfig::default().report_parked_coasting_scans,
+        4,
+        "the default this test is written for"
+    );
+    assert_eq!(reported_where_the_car_was(true), [1, 1, 1, 1, 0, 0]);
 }

@@ -115,7 +115,8 @@ pub struct Track {
     /// Whether the last scan, which the track missed, saw through the middle of its predicted
     /// box: the object is not where the track expects it. An object hidden by something
     /// nearer is not seen through; a track seen through is not reported while it coasts.
-    seen_through: bool,
+    /// `None` where the scans' free space is not known (tracking in the sensor frame).
+    seen_through: Option<bool>,
     votes: ClassVotes,
     /// The identity the votes last gave the track as if it stood still (views shaped like
     /// nothing static), where the track was then and in how many views in all they gave it
@@ -295,20 +296,25 @@ impl Tracker {
 
     /// Whether `track` is reported (see [`Tracker::reported`]).
     pub fn is_reported(&self, track: &Track) -> bool {
-        let coasting = if track.hits >= CONFIRMED_HITS {
-            self.config.report_coasting_scans
-        } else {
+        let coasting = if track.hits < CONFIRMED_HITS {
             0
+        } else if track.is_parked() && track.seen_through == Some(false) {
+            self.config
+                .report_coasting_scans
+                .max(self.config.report_parked_coasting_scans)
+        } else {
+            self.config.report_coasting_scans
         };
         track.hits >= self.config.birth_hits
             && track.misses <= coasting
-            && !(track.misses > 0 && track.seen_through)
+            && !(track.misses > 0 && track.seen_through == Some(true))
             && track.identity().is_some()
     }
 
     /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
-    /// `CONFIRMED_HITS` times if the last scan did not see through their box.
+    /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked cars the
+    /// scan shows not to be seen through: `report_parked_coasting_scans + 1`).
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }
@@ -645,7 +651,7 @@ impl Tracker {
             age: 1,
             hits: 1,
             misses: 0,
-            seen_through: false,
+            seen_through: None,
             votes,
             held: None,
             car_top: car_top(o),
@@ -1044,14 +1050,15 @@ fn parked_car_reach(
 
 /// Whether the scan sees through the middle of track `t`'s predicted box, at its centre and
 /// a quarter of its height above, as a moving track's probes are looked through: free space
-/// where the object should stand; what hides the object tells nothing. False without the
+/// where the object should stand; what hides the object tells nothing. `None` without the
 /// scan's range image.
-fn box_seen_through(t: &Track, scan: &ScanContext<'_>) -> bool {
-    let Some(now) = scan.views.and_then(|views| views.at(scan.timestamp)) else {
-        return false;
-    };
+fn box_seen_through(t: &Track, scan: &ScanContext<'_>) -> Option<bool> {
+    let now = scan.views?.at(scan.timestamp)?;
     let center = t.motion.position();
-    seen_through_all(now, &[center, center + Vector3::z() * (t.size.z / 4.0)])
+    Some(seen_through_all(
+        now,
+        &[center, center + Vector3::z() * (t.size.z / 4.0)],
+    ))
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
