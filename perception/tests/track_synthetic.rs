@@ -678,3 +678,39 @@ fn a_hidden_parked_cars_track_does_not_take_a_person_beside_it() {
         "the gate alone no longer lets the car's track jump"
     );
 }
+
+/// The ids of the tracks reported near a car parked 20 m ahead that comes into view corner
+/// first: its near corner alone (1 × 1 m) in scan 0, a little more of it (1.7 × 1.6 m) in
+/// scan 1, the whole car from scan 2 on; one list per scan.
+fn ids_on_a_car_coming_into_view_corner_first() -> Vec<Vec<u64>> {
+    let whole = car((20.0, 5.0), (0.0, 0.0));
+    let corner = |l: f64, w: f64| Body {
+        start: Vector2::new(17.8 + l / 2.0, 4.1 + w / 2.0),
+        size: Vector3::new(l, w, 1.5),
+        ..whole
+    };
+    let bodies = [corner(1.0, 1.0), corner(1.7, 1.6), whole];
+    let shown = |k: usize, i: usize| i == k.min(2);
+    let out = run(TrackConfig::default(), &bodies, 10, shown);
+    out.iter()
+        .map(|reported| {
+            reported
+                .iter()
+                .filter(|(_, _, c)| (c.xy() - whole.start).norm() < 3.5)
+                .map(|(id, _, _)| *id)
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_car_coming_into_view_corner_first_keeps_one_track() {
+    let ids = ids_on_a_car_coming_into_view_corner_first();
+    let first = ids[1]
+        .first()
+        .copied()
+        .expect("the car is reported in scan 1");
+    for (k, scan) in ids.iter().enumerate().skip(1) {
+        assert_eq!(scan, &[first], "scan {k}: {ids:?}");
+    }
+}

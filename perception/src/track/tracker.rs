@@ -991,14 +991,21 @@ fn structure_unlike(identity: Option<ObjectClass>, o: &Observation) -> bool {
     }
 }
 
-/// The longest view track `t` may take: `size_gate` times its length plus 1 m, and for an
-/// identified person, whose smoothed size grows with every view a little larger, at most its
-/// class's longest view plus 1 m (a pedestrian walking along a wall took ever longer pieces of
-/// it and became a 4.5 m track on the wall).
+/// The longest view track `t` may take: `size_gate` times its length (at least its class's
+/// typical length: a car's track born on its corner as it came into view has not grown to a
+/// car's size when the car shows whole, and a second track was born on the car) plus 1 m, and
+/// for an identified person, whose smoothed size grows with every view a little larger, at
+/// most its class's longest view plus 1 m (a pedestrian walking along a wall took ever longer
+/// pieces of it and became a 4.5 m track on the wall).
 fn longest_view(t: &Track, config: &TrackConfig) -> f64 {
     let c = &config.classify;
-    let by_size = config.association.size_gate * t.size.x.max(t.size.y) + 1.0;
-    let by_class = match t.identity() {
+    let identity = t.identity();
+    let class_length = identity
+        .and_then(|class| c.size_of(class))
+        .map_or(0.0, |size| size.length);
+    let length = t.size.x.max(t.size.y).max(class_length);
+    let by_size = config.association.size_gate * length + 1.0;
+    let by_class = match identity {
         Some(ObjectClass::Pedestrian) => c.pedestrian_max_length + 1.0,
         _ => f64::INFINITY,
     };
