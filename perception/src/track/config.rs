@@ -174,11 +174,12 @@ pub struct TrackConfig {
     /// predicted position (coasting through short occlusions), unless the scan sees through
     /// its box. Default 2.
     pub report_coasting_scans: u32,
-    /// A parked car (see `Track::is_parked`) missed for at most this many scans is still
-    /// reported where it stands while the scans show that nothing is seen through its box:
-    /// a parked car does not drive off unseen, and one hidden by a passing car or thinned
-    /// out to a handful of returns at range is still there. Only where the scans' free
-    /// space tells (tracking in the world frame). Default 4.
+    /// A parked track (see `Track::is_parked`: a parked car, or a person standing, held as
+    /// such) missed for at most this many scans is still reported where it stands while the
+    /// scans show that nothing is seen through its box: a parked car does not drive off
+    /// unseen, and one hidden by a passing car or thinned out to a handful of returns at
+    /// range is still there. Only where the scans' free space tells (tracking in the world
+    /// frame). Default 4.
     pub report_parked_coasting_scans: u32,
     /// Split clusters DBSCAN merged: people a gap away peeled off, a cluster that holds
     /// the predicted boxes of several confirmed tracks shared out among them (two riders side

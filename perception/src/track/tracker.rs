@@ -18,7 +18,7 @@ use super::movement::{
     BESIDE_MOVING_MARGIN, Movement, Sighting, Subject, YOUNG_HITS, seen_through_all,
 };
 use super::observation::{Observation, Observer};
-use super::views::RecentViews;
+use super::views::{RecentViews, View};
 use super::votes::ClassVotes;
 use crate::vfh::{BINS, Vfh, chi_squared, max_deviation};
 use crate::{ObjectClass, Point, TrackState};
@@ -313,7 +313,7 @@ impl Tracker {
 
     /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
-    /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked cars the
+    /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked tracks the
     /// scan shows not to be seen through: `report_parked_coasting_scans + 1`).
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
@@ -405,6 +405,7 @@ impl Tracker {
         );
         self.taken.clear();
         self.taken.resize(clusters.len(), false);
+        let now = scan.views.and_then(|views| views.at(scan.timestamp));
         for (k, m) in matches.into_iter().enumerate() {
             match m {
                 Some(j) => {
@@ -412,9 +413,8 @@ impl Tracker {
                     self.update(k, j, scan, &clusters[j]);
                 }
                 None => {
-                    let seen_through = box_seen_through(&self.tracks[k], scan);
                     let t = &mut self.tracks[k];
-                    t.seen_through = seen_through;
+                    t.seen_through = now.map(|now| box_seen_through(t, now));
                     t.misses += 1;
                     t.confidence = self.config.confidence.miss(t.confidence, dt);
                 }
@@ -1038,9 +1038,9 @@ fn pedestrian_reach(t: &Track, scan: &ScanContext<'_>, config: &TrackConfig) -> 
 }
 
 /// How far (m) outside parked car `t`'s box (its class `identity`) a view may lie now: as far
-/// as the car, pulling out since it was last seen, has gone, plus a margin. A parked car hidden for a few scans
-/// took a pedestrian 3 m beyond its box once the motion model's gate had grown. `None` for
-/// tracks not parked as cars.
+/// as the car, pulling out since it was last seen, has gone, plus a margin. A parked car
+/// hidden for a few scans took a pedestrian 3 m beyond its box once the motion model's gate
+/// had grown. `None` for tracks not parked as cars.
 fn parked_car_reach(
     t: &Track,
     identity: Option<ObjectClass>,
@@ -1055,17 +1055,12 @@ fn parked_car_reach(
     Some(0.5 * m.parked_max_acceleration * elapsed * elapsed + m.parked_reach_margin)
 }
 
-/// Whether the scan sees through the middle of track `t`'s predicted box, at its centre and
-/// a quarter of its height above, as a moving track's probes are looked through: free space
-/// where the object should stand; what hides the object tells nothing. `None` without the
-/// scan's range image.
-fn box_seen_through(t: &Track, scan: &ScanContext<'_>) -> Option<bool> {
-    let now = scan.views?.at(scan.timestamp)?;
+/// Whether the scan `now` sees through the middle of track `t`'s predicted box, at its centre
+/// and a quarter of its height above, as a moving track's probes are looked through: free
+/// space where the object should stand; what hides the object tells nothing.
+fn box_seen_through(t: &Track, now: &View) -> bool {
     let center = t.motion.position();
-    Some(seen_through_all(
-        now,
-        &[center, center + Vector3::z() * (t.size.z / 4.0)],
-    ))
+    seen_through_all(now, &[center, center + Vector3::z() * (t.size.z / 4.0)])
 }
 
 /// Whether `p` lies within `margin` of the track's current box.
