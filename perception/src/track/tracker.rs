@@ -309,12 +309,31 @@ impl Tracker {
             && track.misses <= coasting
             && !(track.misses > 0 && track.seen_through == Some(true))
             && track.identity().is_some()
+            && !self.is_on_a_matched_car(track)
+    }
+
+    /// Whether track `t` stands on a car track matched in the last scan and more often (or as
+    /// often, and older): a second track on the same car, a piece of it seen apart or a track
+    /// that slid off it onto what stands right behind it. Reported, it is a false positive in
+    /// every scan, and the car is one object either way.
+    fn is_on_a_matched_car(&self, t: &Track) -> bool {
+        let p = t.motion.position().xy();
+        let rank = |u: &Track| (u.hits, std::cmp::Reverse(u.id));
+        self.tracks.iter().any(|u| {
+            u.id != t.id
+                && u.misses == 0
+                && u.hits >= self.confirmed_hits()
+                && u.identity() == Some(ObjectClass::Car)
+                && rank(u) > rank(t)
+                && on_car(u, &p)
+        })
     }
 
     /// The tracks to report: matched `birth_hits` times, identified as objects, and matched in
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
     /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked tracks the
-    /// scan shows not to be seen through: `report_parked_coasting_scans + 1`).
+    /// scan shows not to be seen through: `report_parked_coasting_scans + 1`); not a second
+    /// track on a car another track matched (see [`Self::is_on_a_matched_car`]).
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }
@@ -1062,6 +1081,20 @@ fn box_seen_through(t: &Track, now: &View) -> bool {
     let center = t.motion.position();
     seen_through_all(now, &[center, center + Vector3::z() * (t.size.z / 4.0)])
 }
+
+/// Whether `p` lies on car track `t`: within its length plus [`ON_CAR_MARGIN`] along it and
+/// [`SAME_CAR_DISTANCE`] across it (two cars side by side stand farther apart).
+fn on_car(t: &Track, p: &Vector2<f64>) -> bool {
+    let (s, c) = t.motion.yaw().sin_cos();
+    let d = p - t.motion.position().xy();
+    let along = (c * d.x + s * d.y).abs();
+    let across = (-s * d.x + c * d.y).abs();
+    along <= t.size.x / 2.0 + ON_CAR_MARGIN && across <= SAME_CAR_DISTANCE
+}
+
+/// How far (m) beyond a car's ends a second track on it may stand: a box fitted to a far car's
+/// views falls short of its length.
+const ON_CAR_MARGIN: f64 = 0.3;
 
 /// Whether `p` lies within `margin` of the track's current box.
 fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
