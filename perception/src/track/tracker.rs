@@ -333,7 +333,7 @@ impl Tracker {
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
     /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked tracks the
     /// scan shows not to be seen through: `report_parked_coasting_scans + 1`); not a second
-    /// track on a car another track matched (see [`Self::is_on_a_matched_car`]).
+    /// track on a car: one standing on a car track matched in the last scan and more often.
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }
