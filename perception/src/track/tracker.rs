@@ -312,13 +312,18 @@ impl Tracker {
             && !self.is_on_a_matched_car(track)
     }
 
-    /// Whether track `t` stands on a car track matched in the last scan and more often (or as
-    /// often, and older): a second track on the same car, a piece of it seen apart or a track
-    /// that slid off it onto what stands right behind it. Reported, it is a false positive in
+    /// Whether track `t` stands on a car track matched in the last scan that outranks it:
+    /// given its identity in more views in a row (see [`Track::held`]), or in as many and
+    /// matched more often, or as often and older. `t` is a second track on the same car, a
+    /// piece of it seen apart or a track that slid off it onto what stands right behind it
+    /// (whose views then stop adding to its identity). Reported, it is a false positive in
     /// every scan, and the car is one object either way.
     fn is_on_a_matched_car(&self, t: &Track) -> bool {
         let p = t.motion.position().xy();
-        let rank = |u: &Track| (u.hits, std::cmp::Reverse(u.id));
+        let rank = |u: &Track| {
+            let views = u.held.map_or(0, |(_, _, views)| views);
+            (views, u.hits, std::cmp::Reverse(u.id))
+        };
         self.tracks.iter().any(|u| {
             u.id != t.id
                 && u.misses == 0
@@ -333,7 +338,8 @@ impl Tracker {
     /// the last scan, or in one of the last `report_coasting_scans + 1` once matched
     /// `CONFIRMED_HITS` times if the last scan did not see through their box (parked tracks the
     /// scan shows not to be seen through: `report_parked_coasting_scans + 1`); not a second
-    /// track on a car: one standing on a car track matched in the last scan and more often.
+    /// track on a car: one standing on a car track matched in the last scan that was given its
+    /// identity in more views in a row (or in as many and matched more often).
     pub fn reported(&self) -> impl Iterator<Item = &Track> + '_ {
         self.tracks.iter().filter(|t| self.is_reported(t))
     }
