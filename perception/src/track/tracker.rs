@@ -1167,6 +1167,59 @@ pub(super) mod tests {
             .collect()
     }
 
+    /// The faces a sensor at the origin sees of a car 4.4 × 1.8 × 1.5 m whose rear stands
+    /// 18 m ahead: its rear and its right side, 0.1 m apart.
+    fn car_rear_and_side() -> Vec<Point> {
+        let mut points = Vec::new();
+        for row in 2..=15 {
+            let z = 0.1 * row as f32;
+            for i in 0..=18 {
+                points.push(Point::new(18.0, -0.9 + 0.1 * i as f32, z, 0.0));
+            }
+            for i in 1..=44 {
+                points.push(Point::new(18.0 + 0.1 * i as f32, -0.9, z, 0.0));
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn of_two_tracks_on_one_car_the_one_identified_in_more_views_in_a_row_is_reported() {
+        let ground = Ground::horizontal(0.0);
+        let mut tracker = Tracker::new(TrackConfig::default());
+        let points = car_rear_and_side();
+        let vfh = Vfh {
+            bins: [1.0 / BINS as f32; BINS],
+        };
+        let cdf = vfh.cdf();
+        let cluster = ClusterInput {
+            points: &points,
+            vfh: &vfh,
+            cdf: &cdf,
+            surface_variation: 0.0,
+        };
+        for k in 0..8 {
+            tracker.step(&scan_at(0.1 * f64::from(k), &ground), &[cluster]);
+        }
+        assert_eq!(tracker.tracks.len(), 1);
+        let car = &tracker.tracks[0];
+        assert_eq!(car.identity(), Some(ObjectClass::Car));
+        let (class, at, views) = car.held.expect("the car's views identified it");
+        // A second track on the car, matched once less but identified in one view more in a
+        // row (the first one's views stopped giving it the car: it slid off it).
+        let mut second = car.clone();
+        second.id = 99;
+        second.hits -= 1;
+        second.held = Some((class, at, views + 1));
+        tracker.tracks.push(second);
+        let reported: Vec<u64> = tracker.reported().map(|t| t.id).collect();
+        assert_eq!(reported, vec![99]);
+        // Identified in as many views, the one matched more often is reported.
+        tracker.tracks[1].held = Some((class, at, views));
+        let reported: Vec<u64> = tracker.reported().map(|t| t.id).collect();
+        assert_eq!(reported, vec![tracker.tracks[0].id]);
+    }
+
     #[test]
     fn no_object_seen_in_part_is_a_pole_or_floats_above_its_class() {
         let ground = Ground::horizontal(0.0);
