@@ -324,12 +324,13 @@ impl Tracker {
             let views = u.held.map_or(0, |(_, _, views)| views);
             (views, u.hits, std::cmp::Reverse(u.id))
         };
+        let (own_rank, confirmed) = (rank(t), self.confirmed_hits());
         self.tracks.iter().any(|u| {
             u.id != t.id
                 && u.misses == 0
-                && u.hits >= self.confirmed_hits()
+                && u.hits >= confirmed
                 && u.identity() == Some(ObjectClass::Car)
-                && rank(u) > rank(t)
+                && rank(u) > own_rank
                 && on_car(u, &p)
         })
     }
@@ -1091,10 +1092,7 @@ fn box_seen_through(t: &Track, now: &View) -> bool {
 /// Whether `p` lies on car track `t`: within its length plus [`ON_CAR_MARGIN`] along it and
 /// [`SAME_CAR_DISTANCE`] across it (two cars side by side stand farther apart).
 fn on_car(t: &Track, p: &Vector2<f64>) -> bool {
-    let (s, c) = t.motion.yaw().sin_cos();
-    let d = p - t.motion.position().xy();
-    let along = (c * d.x + s * d.y).abs();
-    let across = (-s * d.x + c * d.y).abs();
+    let (along, across) = box_offsets(t, p);
     along <= t.size.x / 2.0 + ON_CAR_MARGIN && across <= SAME_CAR_DISTANCE
 }
 
@@ -1104,12 +1102,15 @@ const ON_CAR_MARGIN: f64 = 0.3;
 
 /// Whether `p` lies within `margin` of the track's current box.
 fn inside_box(t: &Track, p: &Vector2<f64>, margin: f64) -> bool {
-    let c = t.motion.position().xy();
-    let (s, co) = t.motion.yaw().sin_cos();
-    let d = p - c;
-    let along = (co * d.x + s * d.y).abs();
-    let across = (-s * d.x + co * d.y).abs();
+    let (along, across) = box_offsets(t, p);
     along <= t.size.x / 2.0 + margin && across <= t.size.y / 2.0 + margin
+}
+
+/// How far (m) `p` lies from track `t`'s centre along its heading and across it.
+fn box_offsets(t: &Track, p: &Vector2<f64>) -> (f64, f64) {
+    let (s, c) = t.motion.yaw().sin_cos();
+    let d = p - t.motion.position().xy();
+    ((c * d.x + s * d.y).abs(), (-s * d.x + c * d.y).abs())
 }
 
 /// Logs what a view of track `t` showed (`TRACKD_LOG=trackd_perception::track=trace`).
