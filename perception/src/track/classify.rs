@@ -53,6 +53,10 @@ pub struct ClassifyConfig {
     /// A lowest point higher than this above the ground (m) floats: canopies, signs.
     /// Default 1.0.
     pub max_bottom_gap: f64,
+    /// ...unless something nearer hides what lies below it, up to this height (m), and the
+    /// view spans as much as a body: the line of sight over the roof of a car parked in
+    /// front (1.4-1.5 m) hides what stands behind it up to 1.0-1.3 m. Default 1.3.
+    pub max_hidden_bottom: f64,
     /// A top lower than this (m) is a kerb, a bollard, a low wall: cars are taller than
     /// 1.3 m, people than 1.2 m. Default 1.15.
     pub min_object_height: f64,
@@ -187,6 +191,7 @@ impl Default for ClassifyConfig {
             max_object_length: 16.0,
             max_object_width: 3.5,
             max_bottom_gap: 1.0,
+            max_hidden_bottom: 1.3,
             min_object_height: 1.15,
             pole_max_footprint: 0.45,
             pole_min_height: 2.3,
@@ -264,7 +269,8 @@ pub struct ShapeFeatures {
     /// Whether something nearer to the sensor hides the view's lower part: the legs of a
     /// person walking behind a parked car, the wheels of a car parked behind another. Only
     /// looked at for views whose lowest point is higher than a person's feet (see
-    /// [`ClassifyConfig::person_max_bottom`]) and not floating.
+    /// [`ClassifyConfig::person_max_bottom`]) and no higher than
+    /// [`ClassifyConfig::max_hidden_bottom`].
     pub feet_hidden: bool,
     /// Whether something nearer to the sensor hides what lies below an end of the view's
     /// upper third, half way up its lower third: a van parked behind cars is narrow at the
@@ -354,8 +360,8 @@ const CUT_VAN_MIN_WIDTH: f64 = 1.5;
 /// walls and buildings stand on the ground.
 const CUT_VAN_MIN_CLEARANCE: f64 = 0.15;
 
-/// Least height (m) a view with hidden feet must span to be a person's upper body: from the
-/// hips up a person stands some 0.8 m.
+/// Least height (m) a view with hidden feet must span to be a person's upper body (from the
+/// hips up a person stands some 0.8 m) or a vehicle's.
 const HIDDEN_FEET_MIN_SPAN: f64 = 0.6;
 
 /// The verdict on one view.
@@ -368,7 +374,10 @@ pub fn classify_shape(f: &ShapeFeatures, c: &ClassifyConfig) -> ShapeVerdict {
     if f.length > c.max_object_length || f.width > c.max_object_width {
         return Structure(TooLarge);
     }
-    if f.bottom > c.max_bottom_gap {
+    // A view whose lower part something nearer hides stands on the ground as far as the
+    // scan can tell: a van's upper body over the roof of a car parked in front of it.
+    let hidden_body = f.feet_hidden && f.top - f.bottom >= HIDDEN_FEET_MIN_SPAN;
+    if f.bottom > c.max_bottom_gap && !hidden_body {
         return Structure(Floating);
     }
     if f.top < c.min_object_height {
@@ -488,6 +497,40 @@ mod tests {
         assert_eq!(
             classify_shape(&behind_a_car, &c),
             ShapeVerdict::Object(ObjectClass::Car)
+        );
+    }
+
+    #[test]
+    fn a_vans_upper_body_over_a_car_in_front_stands_on_the_ground() {
+        let c = ClassifyConfig::default();
+        // A van's rear 2 m wide seen from 1.2 m up to its top at 2.1 m, 20 m away.
+        let upper_body = ShapeFeatures {
+            bottom: 1.2,
+            range: 20.0,
+            ..features(2.0, 0.1, 2.1, 2.0, 2.0)
+        };
+        // Nothing hides what is below: a sign.
+        assert_eq!(
+            classify_shape(&upper_body, &c),
+            ShapeVerdict::Structure(StructureKind::Floating)
+        );
+        // The roof of a car parked in front hides it.
+        let behind_a_car = ShapeFeatures {
+            feet_hidden: true,
+            ..upper_body
+        };
+        assert_eq!(
+            classify_shape(&behind_a_car, &c),
+            ShapeVerdict::Object(ObjectClass::Car)
+        );
+        // A strip as thin as a roof line over something nearer is no body.
+        let strip = ShapeFeatures {
+            top: 1.5,
+            ..behind_a_car
+        };
+        assert_eq!(
+            classify_shape(&strip, &c),
+            ShapeVerdict::Structure(StructureKind::Floating)
         );
     }
 

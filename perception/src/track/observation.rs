@@ -155,7 +155,7 @@ impl Observer {
         let range = (centroid - sensor).xy().norm();
         // Under the lowest point, half way down to the ground.
         let feet_hidden = bottom > classify.person_max_bottom
-            && bottom <= classify.max_bottom_gap
+            && bottom <= classify.max_hidden_bottom
             && points
                 .get(lowest)
                 .is_some_and(|p| hidden_at(p, -bottom / 2.0, scan));
@@ -319,11 +319,16 @@ mod tests {
     }
 
     /// The returns (sensor frame) of a scan 0.1° by 0.2° fine, 10° to either side of the x
-    /// axis, over flat ground and `faces`.
+    /// axis and from 20° down to level, over flat ground and `faces`.
     fn scan_over(faces: &[Face]) -> Vec<Point> {
+        scan_up_to(faces, 0)
+    }
+
+    /// [`scan_over`] with rays up to `top_row` × 0.2° above level.
+    fn scan_up_to(faces: &[Face], top_row: i32) -> Vec<Point> {
         let mut out = Vec::new();
         for a in -100..=100 {
-            for e in -100..=0 {
+            for e in -100..=top_row {
                 let (azimuth, elevation) = (f64::from(a) * 0.1, f64::from(e) * 0.2);
                 let (azimuth, elevation) = (azimuth.to_radians(), elevation.to_radians());
                 let ray = Vector3::new(
@@ -358,8 +363,12 @@ mod tests {
     /// ground), by a sensor 1.73 m above the origin that took the scan, with mean surface
     /// variation 0.
     fn observe_scan(faces: &[Face], from: f64) -> Observation {
+        observe_returns(&scan_over(faces), from)
+    }
+
+    /// [`observe_scan`] of the scan `returns`.
+    fn observe_returns(returns: &[Point], from: f64) -> Observation {
         let ground = Ground::horizontal(0.0);
-        let returns = scan_over(faces);
         let sensor = Isometry3::translation(0.0, 0.0, SENSOR_HEIGHT);
         let cluster: Vec<Point> = returns
             .iter()
@@ -368,7 +377,7 @@ mod tests {
             .collect();
         assert!(cluster.len() > 20, "{} returns", cluster.len());
         let mut image = RangeImage::default();
-        image.build(&returns);
+        image.build(returns);
         let mut views = RecentViews::new(1.0);
         views.push(View {
             timestamp: 0.0,
@@ -443,6 +452,38 @@ mod tests {
         );
         assert!(van.shape.lower_hidden);
         assert_eq!(van.verdict, ShapeVerdict::Object(ObjectClass::Car));
+    }
+
+    #[test]
+    fn a_van_seen_over_a_car_in_front_does_not_float() {
+        // A van's rear 2 m wide (0.2-2.1 m up) 19 m away, the sensor's rays up to 1.4° above
+        // level; a car's rear 1.45 m tall 10 m away hides it up to 1.2 m.
+        let van = Face {
+            x: 19.0,
+            y: (-1.0, 1.0),
+            z: (0.2, 2.1),
+        };
+        let car = Face {
+            x: 10.0,
+            y: (-1.5, 1.5),
+            z: (0.0, 1.45),
+        };
+        let o = observe_returns(&scan_up_to(&[car, van.clone()], 7), 18.9);
+        assert!(
+            o.shape.bottom > ClassifyConfig::default().max_bottom_gap,
+            "{:?}",
+            o.shape
+        );
+        assert!(o.shape.feet_hidden);
+        assert_eq!(o.verdict, ShapeVerdict::Object(ObjectClass::Car));
+        // The same view with nothing in front: a sign, floating.
+        let sign = Face {
+            z: (1.2, 2.1),
+            ..van
+        };
+        let o = observe_returns(&scan_up_to(&[sign], 7), 18.9);
+        assert!(!o.shape.feet_hidden);
+        assert_eq!(o.verdict, ShapeVerdict::Structure(StructureKind::Floating));
     }
 
     #[test]
