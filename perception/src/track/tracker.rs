@@ -329,9 +329,9 @@ impl Tracker {
             u.id != t.id
                 && u.misses == 0
                 && u.hits >= confirmed
+                && on_car(u, &p)
                 && u.identity() == Some(ObjectClass::Car)
                 && rank(u) > own_rank
-                && on_car(u, &p)
         })
     }
 
